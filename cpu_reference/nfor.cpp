@@ -10,6 +10,7 @@
 
 #include "cpu_reference/local_mean.h"
 #include "cpu_reference/nfor_alpha.h"
+#include "cpu_reference/nfor_band.h"
 #include "cpu_reference/nfor_coarse.h"
 #include "cpu_reference/nfor_kept.h"
 #include "cpu_reference/nfor_lights.h"
@@ -1169,6 +1170,12 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         NforSpreadLine(*in.color, clamped, *in.albedo, in.alpha, p.lineSpread, 4, 3, 4, &out);
         if (stages) stages->emplace_back("line", out);
     }
+    // The glint bands, last, near glints alone (kNforGlintReach of kNforGlintAlbedo).
+    if (plain && p.glintBandRadius > 0 && in.albedo &&
+        NforSmoothGlintBands(*in.albedo, p.glintBandRadius, 1.5, 1.5, 2, kNforGlintAlbedo,
+                             kNforGlintReach, p.emitterAlbedo, &out) > 0 &&
+        stages)
+        stages->emplace_back("glint.band", out);
     if (stages) stages->emplace_back("output", out);
     return out;
 }

@@ -212,6 +212,10 @@ struct NforParams {
     // off.
     double rareLightShare = 0, rareLightRatio = 40, rareLightSigma = 2;
     int rareLightRadius = 6, rareLightPair = 16;
+    // Last, on a frame without a variance layer: within kNforGlintReach of a glint, each pixel
+    // that is no emitter towards the output's mean along its line, glintBandRadius samples
+    // each side (NforSmoothGlintBands, cpu_reference/nfor_band.h); 0: off.
+    int glintBandRadius = 0;
     // Beside a variance layer, the specks' clamp, the clamp's light, the weak emitters' mean
     // and the lights' spread run as without one; false: only without one.
     bool layerPasses = true;

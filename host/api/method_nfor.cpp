@@ -13,6 +13,7 @@
 #include "host/common/local_mean.h"
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/nfor.h"
+#include "host/methods/nfor_band.h"
 #include "host/methods/nfor_line.h"
 #include "host/methods/nfor_rare.h"
 
@@ -319,6 +320,16 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "--rare-light-share's cut: a pixel's colour over its clamped colour "
                           "(the channels' sums) above this",
                           &O::rareLightRatio, 1, 1e6)),
+        nested(IntParam(
+            "glint-band-radius",
+            "on a frame without a variance layer, last: within 16 pixels of a glint (an albedo "
+            "channel above 8: a renderer that writes a reflected light into the albedo, as "
+            "Cycles does, where the features cannot explain a glossy highlight's band) each "
+            "pixel that is no emitter moves towards the output's mean along its line (the "
+            "structure tensor's direction of least change, a Gaussian of 1.5 pixels over this "
+            "many samples each side, each sample's luminance held within 1/2 to 2x the "
+            "pixel's) by the tensor's coherence; 0: off",
+            &O::glintBandRadius, 0, 16)),
         nested(FloatParam(
             "speck-relative",
             "where no variance layer is read (the frame's own noise estimate; or beside one "
@@ -547,6 +558,13 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             needs.reach += kNforLineReach;
             needs.reachText += fmt::format("; {} for the line spread", kNforLineReach);
         }
+        // The glint bands' pass runs after it, near glints alone: their reach holds the
+        // structure tensor's and the samples'.
+        if (o.glintBandRadius > 0 && inputs.Has("albedo") &&
+            NforLineSpreads(inputs.Get("albedo"), kNforGlintAlbedo)) {
+            needs.reach += kNforGlintBandReach;
+            needs.reachText += fmt::format("; {} for the glint bands", kNforGlintBandReach);
+        }
         return needs;
     }
 
@@ -599,6 +617,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         }
         // The rare light's share was measured on frames without statistics only.
         if (inputs.Has("variance")) o.rareLightShare = 0;
+        // So were the glint bands'.
+        if (inputs.Has("variance")) o.glintBandRadius = 0;
         return o;
     }
 

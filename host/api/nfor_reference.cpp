@@ -48,6 +48,7 @@ ref::NforParams NforReferenceParams(const NforOptions &o,
     p.clampLightNoise = kClampLightNoise;
     p.rareLightShare = o.rareLightShare;
     p.rareLightRatio = o.rareLightRatio;
+    p.glintBandRadius = o.glintBandRadius;
     p.speckRelative = o.speckRelative;
     p.speckFloor = o.speckFloor;
     p.speckRank = o.speckRank;

@@ -12,6 +12,7 @@
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/checks.h"
 #include "host/methods/nfor_alpha.h"
+#include "host/methods/nfor_band.h"
 #include "host/methods/nfor_coarse.h"
 #include "host/methods/nfor_kept.h"
 #include "host/methods/nfor_lights.h"
@@ -1070,6 +1071,25 @@ void RestoreClampLight(StagedRun &run, const NforInputs &in, const NforOptions &
     if (o.rareLightShare > 0) SpreadRareLight(run, in, o, clamped, near, result);
 }
 
+// Last, near glints: each pixel towards the output's mean along its line, a highlight's band
+// the fits left broken (host/methods/nfor_band.h).
+void SmoothGlintBands(StagedRun &run, const Image &albedo, const NforOptions &o,
+                      NforResult &result) {
+    NforGlintBandSettings s;
+    s.radius = o.glintBandRadius;
+    s.glintAlbedo = kNforGlintAlbedo;
+    s.reach = kNforGlintReach;
+    s.emitterAlbedo = o.emitterAlbedo;
+    const size_t moved = NforSmoothGlintBands(albedo, s, &result.image);
+    if (moved == 0) return;
+    run.AddStage("glint.band", result.image);
+    run.Plan(fmt::format(
+        "glint bands: {} pixels within {} of a glint (an albedo channel above {}) moved "
+        "towards the output's mean along their line ({} samples each side, a Gaussian of {}; "
+        "the structure tensor's of {}), by its coherence, emitters left out",
+        moved, s.reach, s.glintAlbedo, s.radius, s.sigma, s.tensorSigma));
+}
+
 // Each emitter's share of its output given to its neighbours that are no emitter.
 void SpreadLights(StagedRun &run, const NforInputs &in, const NforOptions &o,
                   const Image *alpha, NforResult &result) {
@@ -1333,6 +1353,8 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
         if (straight.partlyCovered > 0) NforMultiplyByAlpha(*given.alpha, &clamped);
         SpreadLine(run, *given.color, clamped, *given.albedo, given.alpha, o, result);
     }
+    if (plain && o.glintBandRadius > 0 && given.albedo)
+        SmoothGlintBands(run, *given.albedo, o, result);
     run.AddStage("output", result.image);
     run.Plan(GpuTimes(run.Timings()));
     run.Finish(result);

@@ -182,6 +182,12 @@ struct NforOptions {
     // (host/methods/nfor_rare.h); 0: off. The method's API sets it on frames without a
     // variance layer only.
     float rareLightShare = 0.4f, rareLightRatio = 40;
+    // On a frame without a variance layer, last: within kNforGlintReach of a glint (an
+    // albedo channel above kNforGlintAlbedo) each pixel that is no emitter moves towards the
+    // output's mean along its line, over this many samples each side
+    // (host/methods/nfor_band.h); 0: off. The method's API sets it on frames without a
+    // variance layer only.
+    int glintBandRadius = 3;
     // Denoise the frame again at half the resolution and give the output the coarse
     // output's low frequencies where they differ by under min(coarseRelative x the
     // output's local magnitude, coarseNoise x its local residual) (host/methods/nfor_coarse.h):

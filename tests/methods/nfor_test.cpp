@@ -19,6 +19,7 @@
 
 #include "cpu_reference/nfor.h"
 #include "cpu_reference/nfor_alpha.h"
+#include "cpu_reference/nfor_band.h"
 #include "cpu_reference/nfor_coarse.h"
 #include "cpu_reference/nfor_kept.h"
 #include "cpu_reference/nfor_lights.h"
@@ -34,6 +35,7 @@
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/nfor.h"
 #include "host/methods/nfor_alpha.h"
+#include "host/methods/nfor_band.h"
 #include "host/methods/nfor_coarse.h"
 #include "host/methods/nfor_kept.h"
 #include "host/methods/nfor_lights.h"
@@ -2548,6 +2550,78 @@ TEST(NforRareLight, AnInfiniteColourIsNoSource) {
     EXPECT_EQ(twin.data, output.data);
 }
 
+// The glint bands against their reference: log-normal outputs, an albedo with glints (above
+// 8) and emitters (above 1.5) at seeded pixels, frames of one pixel, one row and one column;
+// the same pixels move, the same output to round-off; some move, and a frame without a glint
+// is left as it was.
+TEST(NforGlintBands, MatchesTheReference) {
+    size_t moved = 0;
+    for (auto [w, h] : {std::pair{41, 37}, std::pair{1, 1}, std::pair{23, 1}, std::pair{1, 19}})
+        for (int every : {0, 53, 211}) {
+            std::string name = fmt::format("glint bands {}x{} every {}", w, h, every);
+            uint64_t seed = SeedFromName(name);
+            Image output = MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3, seed);
+            Image albedo = MakeVarianceInput(InputKind::Uniform, w, h, 3, seed + 1);
+            for (size_t i = seed % 7; every > 0 && i < albedo.PixelCount(); i += every)
+                for (int c = 0; c < 3; ++c) albedo.Plane(c)[i] = (i / every) % 2 ? 20.f : 3.f;
+            NforGlintBandSettings s;
+            Image host = output, cpu = output;
+            const size_t count = NforSmoothGlintBands(albedo, s, &host);
+            EXPECT_EQ(count, ref::NforSmoothGlintBands(albedo, s.radius, s.sigma, s.tensorSigma,
+                                                       s.bound, s.glintAlbedo, s.reach,
+                                                       s.emitterAlbedo, &cpu))
+                << name;
+            EXPECT_TRUE(ImagesMatch(cpu, host, {}, {64 * kU, 0, 1e-9})) << name;
+            if (count == 0) {
+                EXPECT_EQ(host.data, output.data) << name;
+            }
+            moved += count;
+        }
+    EXPECT_GT(moved, 0u);
+}
+
+// A highlight's band broken into hits and misses (a row alternating 0.6 and 1, within the
+// samples' bound, on a ground of 0.05) within 16 pixels of a glint comes out nearly even
+// along the row, its light kept to 2%, the ground two rows off it unchanged to 0.01 and an
+// emitter on the band kept; with the glint 17 pixels off the band is left as it was, and
+// without a glint, or with the radius 0, the whole output, bit for bit.
+TEST(NforGlintBands, SmoothsABrokenBandNearAGlint) {
+    const int w = 40, h = 36, row = 16;
+    Image output(w, h, 3, 0.05f);
+    for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) output.At(c, row, x) = x % 2 ? 1.f : 0.6f;
+    auto albedoWithGlint = [&](int y, int x) {
+        Image albedo(w, h, 3, 0.5f);
+        for (int c = 0; c < 3; ++c) albedo.At(c, y, x) = 20.f;
+        for (int c = 0; c < 3; ++c) albedo.At(c, row, 30) = 3.f;
+        return albedo;
+    };
+    NforGlintBandSettings s;
+    Image smoothed = output;
+    ASSERT_GT(NforSmoothGlintBands(albedoWithGlint(2, 20), s, &smoothed), 0u);
+    double before = 0, after = 0, spread = 0;
+    for (int x = 8; x < 28; ++x) {
+        before += output.At(1, row, x);
+        after += smoothed.At(1, row, x);
+        spread = std::max(spread, std::abs(smoothed.At(1, row, x) - 0.8));
+        EXPECT_NEAR(smoothed.At(1, row - 2, x), 0.05f, 0.01f) << x;
+        EXPECT_NEAR(smoothed.At(1, row + 2, x), 0.05f, 0.01f) << x;
+    }
+    EXPECT_LT(spread, 0.05);
+    EXPECT_NEAR(after, before, 0.02 * before);
+    EXPECT_EQ(smoothed.At(1, row, 30), output.At(1, row, 30));
+    Image far = output;
+    NforSmoothGlintBands(albedoWithGlint(row + 17, 20), s, &far);
+    for (int x = 0; x < w; ++x) EXPECT_EQ(far.At(1, row, x), output.At(1, row, x)) << x;
+    Image none = output;
+    EXPECT_EQ(NforSmoothGlintBands(Image(w, h, 3, 0.5f), s, &none), 0u);
+    EXPECT_EQ(none.data, output.data);
+    s.radius = 0;
+    Image off = output;
+    EXPECT_EQ(NforSmoothGlintBands(albedoWithGlint(2, 20), s, &off), 0u);
+    EXPECT_EQ(off.data, output.data);
+}
+
 // A speck the firefly clamp leaves (a pixel at 1.7x its flat neighbours, under the clamp's
 // limit) and the fits keep (its normal unlike its neighbours') comes out near its neighbours:
 // scaled down to the bound, its light given to the pixels around it by the local means, the
@@ -3119,7 +3193,8 @@ TEST(NforLights, MatchesTheReferenceAndRepeats) {
 // with --light-share 0 (the frame's sum kept, the block's corner-diagonal pixels as they
 // were); a weak emitter gives its neighbours a larger share. Beside a variance layer read as
 // the noise the same (the clamp reads the frame's own estimate); with --no-layer-passes the
-// light shares change nothing, bit for bit.
+// light shares change nothing, bit for bit. The glint bands (the block is a glint too) are
+// left out of both runs: the lights' shares alone are measured.
 TEST_F(NforMethod, DefaultsSpreadALightsRim) {
     Frame f = MakeFrame(24, 20, 0.05, "light rim");
     for (int y = 8; y <= 10; ++y)
@@ -3127,6 +3202,7 @@ TEST_F(NforMethod, DefaultsSpreadALightsRim) {
             for (int c = 0; c < 3; ++c) f.albedo.At(c, y, x) = f.color.At(c, y, x) = 300.f;
     for (int c = 0; c < 3; ++c) f.albedo.At(c, 4, 4) = f.color.At(c, 4, 4) = 3.f;
     NforOptions defaults, off;
+    defaults.glintBandRadius = off.glintBandRadius = 0;
     off.weakLightShare = off.lightShare = 0;
     NforResult a = NforDenoise(Ctx(), InputsOf(f), defaults);
     NforResult b = NforDenoise(Ctx(), InputsOf(f), off);
@@ -3165,7 +3241,8 @@ TEST_F(NforMethod, DefaultsSpreadALightsRim) {
 
 // A light beside a transparent film's background (alpha 0, which the frame's colour
 // replaces after the method): the lights' spread gives it nothing, so the frame's light
-// stays through the whole run, as without the background.
+// stays through the whole run, as without the background (the glint bands left out: the
+// light is a glint).
 TEST(NforMethodAlpha, LightsSpreadKeepsTheLightBesideATransparentBackground) {
     const int w = 16, h = 16;
     Frame f = MakeFrame(w, h, 0.05, "light beside alpha 0");
@@ -3188,6 +3265,7 @@ TEST(NforMethodAlpha, LightsSpreadKeepsTheLightBesideATransparentBackground) {
                     {"alpha", alpha}};
     Device device;
     Method method("nfor");
+    method.Set("glint-band-radius", 0);
     Result a = method.Run(device, frame);
     method.Set("light-share", 0.f);
     method.Set("weak-light-share", 0.f);
@@ -3548,6 +3626,47 @@ TEST_F(NforMethod, PlainFramesSpreadTheRareLight) {
     EXPECT_FALSE(rare(run(layered, 0.4)));
 }
 
+// On a plain frame with a glint the plan names the glint bands' pass and a broken band beside
+// it comes out more even than with --glint-band-radius 0; beside a variance layer the pass
+// does not run.
+TEST_F(NforMethod, PlainFramesSmoothGlintBands) {
+    const int w = 36, h = 29, row = 14;
+    Frame f = MakeFrame(w, h, 0, "glint bands");
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) {
+                f.albedo.At(c, y, x) = 0.5f;
+                f.normal.At(c, y, x) = c == 2 ? 1.f : 0.f;
+                f.color.At(c, y, x) = y == row ? (x % 2 ? 1.2f : 0.4f) : 0.05f;
+            }
+    for (int c = 0; c < 3; ++c) f.albedo.At(c, 3, 18) = 20.f;
+    mcd::Frame frame = PlainApiFrame(f, "band.exr");
+    Device device;
+    auto run = [&](const mcd::Frame &input, int radius) {
+        Method method("nfor");
+        method.Set("glint-band-radius", radius);
+        return method.Run(device, input);
+    };
+    auto band = [](const Result &r) {
+        bool found = false;
+        for (const std::string &line : r.plan) found |= Contains(line, "glint bands:");
+        return found;
+    };
+    auto unevenness = [&](const Result &r) {
+        double sum = 0;
+        for (int x = 10; x < 26; ++x)
+            sum += std::abs(r.image.At(1, row, x + 1) - r.image.At(1, row, x));
+        return sum;
+    };
+    Result on = run(frame, 3), off = run(frame, 0);
+    EXPECT_TRUE(band(on));
+    EXPECT_FALSE(band(off));
+    EXPECT_LT(unevenness(on), unevenness(off));
+    mcd::Frame layered = frame;
+    layered.layers["variance"] = Image(w, h, 3, 0.0001f);
+    EXPECT_FALSE(band(run(layered, 3)));
+}
+
 // What the method is for: a rendered plain frame (colour, albedo, normal, depth only) comes
 // out closer to the converged image and about as bright. The built-in renderer writes its
 // light's reflectance as the albedo, the ceiling's too: no emitter is detected, and a
@@ -3797,7 +3916,8 @@ TEST(NforLine, ATileWithItsHaloMatchesTheWholeFrame) {
 
 // nfor's defaults on a dark plain frame with a light under a highlight line of hits: the line
 // spread gives the line the light the clamp took (the gaps beside the light brighter than
-// with --line-spread 0), the rest of the frame as it was, bit for bit.
+// with --line-spread 0), the rest of the frame as it was, bit for bit (the glint bands, which
+// would smooth what the spread gave, left out of both runs).
 TEST_F(NforMethod, DefaultsSpreadTheClampsLightAlongALine) {
     const int w = 48, h = 40;
     Frame f = MakeFrame(w, h, 0.05, "line spread");
@@ -3811,6 +3931,7 @@ TEST_F(NforMethod, DefaultsSpreadTheClampsLightAlongALine) {
                     f.albedo.At(c, y, x) = line.albedo.At(c, y, x);
                 }
     NforOptions defaults, off;
+    defaults.glintBandRadius = off.glintBandRadius = 0;
     off.lineSpread = 0;
     NforResult a = NforDenoise(Ctx(), InputsOf(f), defaults);
     NforResult b = NforDenoise(Ctx(), InputsOf(f), off);

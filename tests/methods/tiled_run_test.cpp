@@ -24,6 +24,7 @@
 #include "host/api/registry.h"
 #include "host/api/tiled_run.h"
 #include "host/methods/nfor.h"
+#include "host/methods/nfor_band.h"
 #include "host/methods/nfor_line.h"
 #include "host/methods/run_memo.h"
 #include "mcdenoise/mcdenoise.h"
@@ -803,9 +804,10 @@ TEST_F(GpuTest, TiledRunNforLineSpreadAcrossTheSeamIsBitIdentical) {
 
 // nfor's halo grows by the line spread's reach on a frame with a light (an albedo channel
 // above the gate, beside a NaN one too), and says so; not on a frame without one. The glint
-// floor (off here: its gate is such a light too) grows it further.
+// floor and the glint bands (off here: their gate is such a light too) grow it further, the
+// bands by their reach.
 TEST_F(GpuTest, TiledRunNforHaloTakesTheLineSpreadNearALight) {
-    int reach[3] = {}, floored[3] = {};
+    int reach[3] = {}, floored[3] = {}, banded[3] = {};
     for (int lit : {0, 1, 2}) {
         SCOPED_TRACE(fmt::format("light {}", lit));
         Frame frame = RenderedFrame(64, 32, render::kLayersAll);
@@ -814,9 +816,11 @@ TEST_F(GpuTest, TiledRunNforHaloTakesTheLineSpreadNearALight) {
         if (lit > 0)
             for (int c = 0; c < 3; ++c) albedo.At(c, 16, 32) = 40.f;
         if (lit == 2) albedo.At(0, 16, 32) = std::nanf("");
-        api::TileNeeds needs = NeedsWith("nfor", {{"glint-noise", 0.f}}, frame);
+        api::TileNeeds needs =
+            NeedsWith("nfor", {{"glint-noise", 0.f}, {"glint-band-radius", 0}}, frame);
         reach[lit] = needs.reach;
-        floored[lit] = NeedsWith("nfor", {}, frame).reach;
+        floored[lit] = NeedsWith("nfor", {{"glint-band-radius", 0}}, frame).reach;
+        banded[lit] = NeedsWith("nfor", {{"glint-noise", 0.f}}, frame).reach;
         const std::string text = fmt::format("{} for the line spread", kNforLineReach);
         EXPECT_EQ(needs.reachText.find(text) != std::string::npos, lit > 0) << needs.reachText;
     }
@@ -825,6 +829,8 @@ TEST_F(GpuTest, TiledRunNforHaloTakesTheLineSpreadNearALight) {
     EXPECT_EQ(floored[0], reach[0]);
     EXPECT_GT(floored[1], reach[1]);
     EXPECT_EQ(floored[2], floored[1]);
+    EXPECT_EQ(banded[0], reach[0]);
+    EXPECT_EQ(banded[1], reach[1] + kNforGlintBandReach);
 }
 
 // nfor on a plain frame over a transparent background (no variance layer, an alpha with
@@ -1059,6 +1065,35 @@ TEST_F(GpuTest, TiledRunNforRareLightAcrossTheSeamIsBitIdentical) {
         ran |= line.find("rare light: 4 pixels") != std::string::npos;
     EXPECT_TRUE(ran);
     ExpectSameBits(whole.image, tiled.image, "nfor tiled, the rare light");
+}
+
+// The glint bands' pass across a tile seam: a broken band beside a glint on the seam comes out
+// with the whole frame's bits (the halo holds the glints' reach).
+TEST_F(GpuTest, TiledRunNforGlintBandsAcrossTheSeamIsBitIdentical) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 400, height = 32, tile = 200;
+    Frame frame;
+    frame.path = "glint bands across a seam";
+    frame.width = width, frame.height = height;
+    Image color(width, height, 3), albedo(width, height, 3, 0.5f);
+    std::mt19937_64 rng(SeedFromName(frame.path));
+    std::normal_distribution<double> noise(0, 0.05);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c)
+                color.At(c, y, x) =
+                    float((y == 16 ? (x % 2 ? 1.0 : 0.6) : 0.05) * (1 + noise(rng)));
+    for (int c = 0; c < 3; ++c) albedo.At(c, 6, 208) = 20.f;
+    frame.layers["color"] = std::move(color);
+    frame.layers["albedo"] = std::move(albedo);
+    Params params = {
+        {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"coarse-gate", 0.f}};
+    auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
+    bool ran = false;
+    for (const std::string &line : whole.plan)
+        ran |= line.find("glint bands:") != std::string::npos;
+    EXPECT_TRUE(ran);
+    ExpectSameBits(whole.image, tiled.image, "nfor tiled, the glint bands");
 }
 
 // nfor's halo holds the clamp's light's reach only where the pass runs: on a plain frame
