@@ -328,7 +328,7 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
             "pixel that is no emitter moves towards the output's mean along its line (the "
             "structure tensor's direction of least change, a Gaussian of 1.5 pixels over this "
             "many samples each side, each sample's luminance held within 1/2 to 2x the "
-            "pixel's) by the tensor's coherence; 0: off",
+            "pixel's + 0.01, emitters' samples left out) by the tensor's coherence; 0: off",
             &O::glintBandRadius, 0, 16)),
         nested(FloatParam(
             "speck-relative",
