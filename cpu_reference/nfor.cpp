@@ -1172,7 +1172,8 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     }
     // The glint bands, last, near glints alone (kNforGlintReach of kNforGlintAlbedo).
     if (plain && p.glintBandRadius > 0 && in.albedo &&
-        NforSmoothGlintBands(*in.albedo, p.glintBandRadius, 1.5, 1.5, 2, kNforGlintAlbedo,
+        NforSmoothGlintBands(*in.albedo, in.alpha, p.glintBandRadius, p.glintBandSigma,
+                             p.glintBandTensorSigma, p.glintBandBound, kNforGlintAlbedo,
                              kNforGlintReach, p.emitterAlbedo, &out) > 0 &&
         stages)
         stages->emplace_back("glint.band", out);

@@ -214,8 +214,10 @@ struct NforParams {
     int rareLightRadius = 6, rareLightPair = 16;
     // Last, on a frame without a variance layer: within kNforGlintReach of a glint, each pixel
     // that is no emitter towards the output's mean along its line, glintBandRadius samples
-    // each side (NforSmoothGlintBands, cpu_reference/nfor_band.h); 0: off.
+    // each side, a Gaussian of glintBandSigma, the tensor's of glintBandTensorSigma, samples
+    // held within glintBandBound (NforSmoothGlintBands, cpu_reference/nfor_band.h); 0: off.
     int glintBandRadius = 0;
+    double glintBandSigma = 1.5, glintBandTensorSigma = 1.5, glintBandBound = 2;
     // Beside a variance layer, the specks' clamp, the clamp's light, the weak emitters' mean
     // and the lights' spread run as without one; false: only without one.
     bool layerPasses = true;

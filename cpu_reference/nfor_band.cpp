@@ -20,9 +20,9 @@ double LuminanceOf(const double *v, int channels) {
 
 }  // namespace
 
-size_t NforSmoothGlintBands(const Image &albedo, int radius, double sigma, double tensorSigma,
-                            double bound, double glintAlbedo, int reach, double emitterAlbedo,
-                            Image *output) {
+size_t NforSmoothGlintBands(const Image &albedo, const Image *alpha, int radius, double sigma,
+                            double tensorSigma, double bound, double glintAlbedo, int reach,
+                            double emitterAlbedo, Image *output) {
     const int w = output->width, h = output->height, channels = std::min(output->channels, 4);
     if (radius == 0) return 0;
     const Image in = *output;
@@ -45,14 +45,26 @@ size_t NforSmoothGlintBands(const Image &albedo, int radius, double sigma, doubl
     double gsum = 0;
     for (int k = -tr; k <= tr; ++k)
         gsum += g[k + tr] = std::exp(-k * k / (2 * tensorSigma * tensorSigma));
-    auto emitter = [&](int y, int x) { return Max(albedo, y, x) > emitterAlbedo ? 1.0 : 0.0; };
+    // 1 for an emitter or an empty pixel: neither moves nor gives.
+    auto emitter = [&](int y, int x) {
+        const bool empty = alpha && !(alpha->At(0, y, x) > 0);
+        return empty || Max(albedo, y, x) > emitterAlbedo ? 1.0 : 0.0;
+    };
+    auto finite = [&](const double *v) {
+        for (int c = 0; c < channels; ++c)
+            if (!std::isfinite(v[c])) return false;
+        return true;
+    };
+    // Bilinear, the position held inside the frame, the taps past its last row or column
+    // reading that row or column.
     auto bilinear = [&](auto at, double x, double y) {
-        x = std::clamp(x, 0.0, w - 1.001);
-        y = std::clamp(y, 0.0, h - 1.001);
-        const int x0 = int(x), y0 = int(y);
+        x = std::clamp(x, 0.0, double(w - 1));
+        y = std::clamp(y, 0.0, double(h - 1));
+        const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
         const double fx = x - x0, fy = y - y0;
-        return at(y0, x0) * (1 - fx) * (1 - fy) + at(y0, x0 + 1) * fx * (1 - fy) +
-               at(y0 + 1, x0) * (1 - fx) * fy + at(y0 + 1, x0 + 1) * fx * fy;
+        auto tap = [&](int v, int u) { return at(std::min(v, h - 1), std::min(u, w - 1)); };
+        return tap(y0, x0) * (1 - fx) * (1 - fy) + tap(y0, x0 + 1) * fx * (1 - fy) +
+               tap(y0 + 1, x0) * (1 - fx) * fy + tap(y0 + 1, x0 + 1) * fx * fy;
     };
     size_t moved = 0;
     for (int y = 0; y < h; ++y)
@@ -84,6 +96,7 @@ size_t NforSmoothGlintBands(const Image &albedo, int radius, double sigma, doubl
             if (!(coherence > 0)) continue;
             double own[4] = {0, 0, 0, 0};
             pixel(y, x, own);
+            if (!finite(own)) continue;
             const double ownLum = std::max(LuminanceOf(own, channels), 0.0);
             double mean[4] = {0, 0, 0, 0}, weights = 0;
             for (int k = -radius; k <= radius; ++k) {
@@ -95,6 +108,7 @@ size_t NforSmoothGlintBands(const Image &albedo, int radius, double sigma, doubl
                 for (int c = 0; c < channels; ++c)
                     s[c] =
                         bilinear([&](int v, int u) { return double(in.At(c, v, u)); }, px, py);
+                if (!finite(s)) continue;
                 const double lum = LuminanceOf(s, channels);
                 const double held = std::clamp(lum, ownLum / bound, ownLum * bound + 0.01);
                 for (int c = 0; c < channels; ++c)

@@ -328,8 +328,9 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
             "pixel that is no emitter moves towards the output's mean along its line (the "
             "structure tensor's direction of least change, a Gaussian of 1.5 pixels over this "
             "many samples each side, each sample's luminance held within 1/2 to 2x the "
-            "pixel's + 0.01, emitters' samples left out) by the tensor's coherence; 0: off",
-            &O::glintBandRadius, 0, 16)),
+            "pixel's + 0.01, a sample of no light black, emitters', empty pixels' and "
+            "non-finite samples left out) by the tensor's coherence; 0: off",
+            &O::glintBandRadius, 0, kNforGlintBandReach - 1)),
         nested(FloatParam(
             "speck-relative",
             "where no variance layer is read (the frame's own noise estimate; or beside one "

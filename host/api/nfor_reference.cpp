@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "host/methods/nfor_band.h"
+
 namespace mcd::api {
 
 ref::NforParams NforReferenceParams(const NforOptions &o,
@@ -49,6 +51,10 @@ ref::NforParams NforReferenceParams(const NforOptions &o,
     p.rareLightShare = o.rareLightShare;
     p.rareLightRatio = o.rareLightRatio;
     p.glintBandRadius = o.glintBandRadius;
+    const NforGlintBandSettings band;
+    p.glintBandSigma = band.sigma;
+    p.glintBandTensorSigma = band.tensorSigma;
+    p.glintBandBound = band.bound;
     p.speckRelative = o.speckRelative;
     p.speckFloor = o.speckFloor;
     p.speckRank = o.speckRank;

@@ -174,15 +174,16 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.albedoNoise) && o.albedoNoise >= 0) ||
         !(finite(o.glintNoise) && o.glintNoise >= 0) ||
         !(o.rareLightShare >= 0 && o.rareLightShare <= 1) ||
-        !(finite(o.rareLightRatio) && o.rareLightRatio >= 1))
+        !(finite(o.rareLightRatio) && o.rareLightRatio >= 1) || o.glintBandRadius < 0 ||
+        o.glintBandRadius >= kNforGlintBandReach)
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold, firefly lone "
             "light, pilot alpha, coarse relative, coarse noise, coarse gate, wide agreement, "
             "speck floor, layer and pilot noise caps, albedo noise, glint noise and weak "
             "emitter line finite and >= 0, weak emitter range finite and > 0, speck relative "
-            "finite, mean radius >= 0, light shares 0 to 0.25, rare light share 0 to 1 and "
-            "ratio finite and >= 1",
+            "finite, mean radius >= 0, light shares 0 to 0.25, rare light share 0 to 1, "
+            "ratio finite and >= 1, glint band radius 0 to 15",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
@@ -1073,14 +1074,14 @@ void RestoreClampLight(StagedRun &run, const NforInputs &in, const NforOptions &
 
 // Last, near glints: each pixel towards the output's mean along its line, a highlight's band
 // the fits left broken (host/methods/nfor_band.h).
-void SmoothGlintBands(StagedRun &run, const Image &albedo, const NforOptions &o,
-                      NforResult &result) {
+void SmoothGlintBands(StagedRun &run, const Image &albedo, const Image *alpha,
+                      const NforOptions &o, NforResult &result) {
     NforGlintBandSettings s;
     s.radius = o.glintBandRadius;
     s.glintAlbedo = kNforGlintAlbedo;
     s.reach = kNforGlintReach;
     s.emitterAlbedo = o.emitterAlbedo;
-    const size_t moved = NforSmoothGlintBands(albedo, s, &result.image);
+    const size_t moved = NforSmoothGlintBands(albedo, alpha, s, &result.image);
     if (moved == 0) return;
     run.AddStage("glint.band", result.image);
     run.Plan(fmt::format(
@@ -1354,7 +1355,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
         SpreadLine(run, *given.color, clamped, *given.albedo, given.alpha, o, result);
     }
     if (plain && o.glintBandRadius > 0 && given.albedo)
-        SmoothGlintBands(run, *given.albedo, o, result);
+        SmoothGlintBands(run, *given.albedo, given.alpha, o, result);
     run.AddStage("output", result.image);
     run.Plan(GpuTimes(run.Timings()));
     run.Finish(result);

@@ -109,38 +109,52 @@ void LineDirections(const Image &output, double sigma, std::vector<double> *tx,
     }
 }
 
-// `plane`'s bilinear value at (x, y), the position held inside the frame.
+// `plane`'s bilinear value at (x, y), the position held inside the frame (a frame one pixel
+// wide or tall reads its one column or row).
 template <typename At>
 double Bilinear(At at, int w, int h, double x, double y) {
-    x = std::clamp(x, 0.0, w - 1.001);
-    y = std::clamp(y, 0.0, h - 1.001);
-    const int x0 = int(x), y0 = int(y);
+    x = std::clamp(x, 0.0, double(w - 1));
+    y = std::clamp(y, 0.0, double(h - 1));
+    const int x0 = std::min(int(x), w - 1), y0 = std::min(int(y), h - 1);
+    const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
     const double fx = x - x0, fy = y - y0;
-    return at(y0, x0) * (1 - fx) * (1 - fy) + at(y0, x0 + 1) * fx * (1 - fy) +
-           at(y0 + 1, x0) * (1 - fx) * fy + at(y0 + 1, x0 + 1) * fx * fy;
+    return at(y0, x0) * (1 - fx) * (1 - fy) + at(y0, x1) * fx * (1 - fy) +
+           at(y1, x0) * (1 - fx) * fy + at(y1, x1) * fx * fy;
+}
+
+// Whether the pixel's channels (at most 4) are all finite.
+bool FinitePixel(const Image &image, int y, int x) {
+    for (int c = 0; c < image.channels && c < 4; ++c)
+        if (!std::isfinite(image.At(c, y, x))) return false;
+    return true;
 }
 
 }  // namespace
 
-size_t NforSmoothGlintBands(const Image &albedo, const NforGlintBandSettings &s,
-                            Image *output) {
+size_t NforSmoothGlintBands(const Image &albedo, const Image *alpha,
+                            const NforGlintBandSettings &s, Image *output) {
     const int w = output->width, h = output->height, channels = output->channels;
-    if (albedo.width != w || albedo.height != h || s.radius < 0 || !(s.sigma > 0) ||
-        !(s.tensorSigma > 0) || !(s.bound >= 1) || s.reach < 0)
+    if (albedo.width != w || albedo.height != h ||
+        (alpha && (alpha->width != w || alpha->height != h)) || s.radius < 0 ||
+        !(s.sigma > 0) || !(s.tensorSigma > 0) || !(s.bound >= 1) || s.reach < 0)
         throw Error(
-            "NforSmoothGlintBands: an albedo of the output's size, a radius >= 0, sigmas > 0 "
-            "and a bound >= 1",
+            "NforSmoothGlintBands: an albedo (and alpha) of the output's size, a radius >= 0, "
+            "sigmas > 0 and a bound >= 1",
             ErrorKind::Internal);
     // A frame without a glint (most) is left at the cost of one read of its albedo.
     if (s.radius == 0 || std::none_of(albedo.data.begin(), albedo.data.end(),
                                       [&](float a) { return a > s.glintAlbedo; }))
         return 0;
     const std::vector<char> near = NearGlints(albedo, s.glintAlbedo, s.reach);
+    // Emitters and empty pixels (alpha 0) neither move nor give: 1 in `emitter`.
     std::vector<double> emitter(size_t(w) * h);
     for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
+        for (int x = 0; x < w; ++x) {
+            double &e = emitter[size_t(y) * w + x];
             for (int c = 0; c < albedo.channels; ++c)
-                if (albedo.At(c, y, x) > s.emitterAlbedo) emitter[size_t(y) * w + x] = 1;
+                if (albedo.At(c, y, x) > s.emitterAlbedo) e = 1;
+            if (alpha && !(alpha->At(0, y, x) > 0)) e = 1;
+        }
     std::vector<double> tx, ty, coherence;
     LineDirections(*output, s.tensorSigma, &tx, &ty, &coherence);
     const Image in = *output;
@@ -150,7 +164,8 @@ size_t NforSmoothGlintBands(const Image &albedo, const NforGlintBandSettings &s,
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const size_t i = size_t(y) * w + x;
-            if (!near[i] || emitter[i] > 0 || !(coherence[i] > 0)) continue;
+            if (!near[i] || emitter[i] > 0 || !(coherence[i] > 0) || !FinitePixel(in, y, x))
+                continue;
             const double own = std::max(Luminance(in, y, x), 0.0);
             std::fill(mean.begin(), mean.end(), 0.0);
             double weights = 0;
@@ -160,13 +175,19 @@ size_t NforSmoothGlintBands(const Image &albedo, const NforGlintBandSettings &s,
                                       (1 - Bilinear(emitterAt, w, h, px, py));
                 if (!(weight > 0)) continue;
                 double sample[4] = {0, 0, 0, 0}, lum = 0;
-                for (int c = 0; c < channels && c < 4; ++c)
+                bool finite = true;
+                for (int c = 0; c < channels && c < 4; ++c) {
                     sample[c] = Bilinear([&](int v, int u) { return double(in.At(c, v, u)); },
                                          w, h, px, py);
+                    finite = finite && std::isfinite(sample[c]);
+                }
+                // A non-finite value near the line gives nothing, so it does not spread.
+                if (!finite) continue;
                 lum = channels < 3
                           ? sample[0]
                           : 0.2126 * sample[0] + 0.7152 * sample[1] + 0.0722 * sample[2];
-                // A bright line beside a dim pixel gives it at most bound x its own.
+                // A bright line beside a dim pixel gives it at most bound x its own; a
+                // sample of no light counts as black.
                 const double held = std::clamp(lum, own / s.bound, own * s.bound + 0.01);
                 const double scale = lum > 0 ? held / lum : 0;
                 for (int c = 0; c < channels && c < 4; ++c)

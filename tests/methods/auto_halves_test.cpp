@@ -124,8 +124,9 @@ TEST(AutoHalvesEstimates, LeavesNoneOutWhereTheMedianIsAboutZero) {
 }
 
 // A median over the frame above 1e-4 but under 0.01 x half1's variance over the frame is
-// within the halves' noise (fence_grass's accumulated frame: 0.00032 against 0.084): none is
-// left out; with a hundredth of that variance the same estimates leave out the far ones.
+// within the halves' noise (a frame like fence_grass's accumulated one, docs/methods/auto.md):
+// none is left out; with a hundredth of that variance the same estimates leave out the far
+// ones.
 TEST(AutoHalvesEstimates, LeavesNoneOutWhereTheMedianIsUnderTheFramesNoise) {
     const int w = 6, h = 5;
     const std::vector<float> levels = {0.00018f, 0.00032f, 0.0017f, 0.0018f, -0.0004f};

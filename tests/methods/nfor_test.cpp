@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -2551,33 +2552,79 @@ TEST(NforRareLight, AnInfiniteColourIsNoSource) {
 }
 
 // The glint bands against their reference: log-normal outputs, an albedo with glints (above
-// 8) and emitters (above 1.5) at seeded pixels, frames of one pixel, one row and one column;
-// the same pixels move, the same output to round-off; some move, and a frame without a glint
-// is left as it was.
+// 8) and emitters (above 1.5) at seeded pixels, frames of one pixel, one row and one column
+// (each with a glint), with and without an alpha holding empty pixels and non-finite values
+// in the output; the same pixels move, the same output to round-off; some move, and a frame
+// without a glint is left as it was.
 TEST(NforGlintBands, MatchesTheReference) {
     size_t moved = 0;
     for (auto [w, h] : {std::pair{41, 37}, std::pair{1, 1}, std::pair{23, 1}, std::pair{1, 19}})
-        for (int every : {0, 53, 211}) {
-            std::string name = fmt::format("glint bands {}x{} every {}", w, h, every);
-            uint64_t seed = SeedFromName(name);
-            Image output = MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3, seed);
-            Image albedo = MakeVarianceInput(InputKind::Uniform, w, h, 3, seed + 1);
-            for (size_t i = seed % 7; every > 0 && i < albedo.PixelCount(); i += every)
-                for (int c = 0; c < 3; ++c) albedo.Plane(c)[i] = (i / every) % 2 ? 20.f : 3.f;
-            NforGlintBandSettings s;
-            Image host = output, cpu = output;
-            const size_t count = NforSmoothGlintBands(albedo, s, &host);
-            EXPECT_EQ(count, ref::NforSmoothGlintBands(albedo, s.radius, s.sigma, s.tensorSigma,
-                                                       s.bound, s.glintAlbedo, s.reach,
-                                                       s.emitterAlbedo, &cpu))
-                << name;
-            EXPECT_TRUE(ImagesMatch(cpu, host, {}, {64 * kU, 0, 1e-9})) << name;
-            if (count == 0) {
-                EXPECT_EQ(host.data, output.data) << name;
+        for (int every : {0, 53, 211})
+            for (bool withAlpha : {false, true}) {
+                std::string name =
+                    fmt::format("glint bands {}x{} every {} alpha {}", w, h, every, withAlpha);
+                uint64_t seed = SeedFromName(name);
+                Image output = MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3, seed);
+                Image albedo = MakeVarianceInput(InputKind::Uniform, w, h, 3, seed + 1);
+                for (size_t i = seed % std::min<size_t>(7, albedo.PixelCount());
+                     every > 0 && i < albedo.PixelCount(); i += every)
+                    for (int c = 0; c < 3; ++c)
+                        albedo.Plane(c)[i] = (i / every) % 2 ? 3.f : 20.f;
+                Image alpha = MakeVarianceInput(InputKind::Uniform, w, h, 1, seed + 2);
+                for (float &a : alpha.data) a = a < 0.1f ? 0.f : 1.f;
+                if (withAlpha)
+                    for (size_t i = seed % 11; i < output.PixelCount(); i += 97)
+                        output.Plane(i % 3)[i] =
+                            std::array{std::numeric_limits<float>::infinity(),
+                                       -std::numeric_limits<float>::infinity(),
+                                       std::numeric_limits<float>::quiet_NaN()}[i % 3];
+                const Image *a = withAlpha ? &alpha : nullptr;
+                NforGlintBandSettings s;
+                Image host = output, cpu = output;
+                const size_t count = NforSmoothGlintBands(albedo, a, s, &host);
+                EXPECT_EQ(count, ref::NforSmoothGlintBands(
+                                     albedo, a, s.radius, s.sigma, s.tensorSigma, s.bound,
+                                     s.glintAlbedo, s.reach, s.emitterAlbedo, &cpu))
+                    << name;
+                EXPECT_TRUE(ImagesMatch(cpu, host, {}, {64 * kU, 0, 1e-9})) << name;
+                if (count == 0) {
+                    EXPECT_EQ(0, std::memcmp(host.data.data(), output.data.data(),
+                                             output.data.size() * sizeof(float)))
+                        << name;
+                }
+                moved += count;
             }
-            moved += count;
-        }
     EXPECT_GT(moved, 0u);
+}
+
+// On a broken band near a glint: a non-finite value on the band (+Inf, -Inf or NaN in one
+// channel) stays the only one, and an empty pixel (alpha 0) on it keeps its value; host and
+// twin alike.
+TEST(NforGlintBands, ANonFiniteOrEmptyPixelDoesNotSpread) {
+    const int w = 40, h = 36, row = 16;
+    Image output(w, h, 3, 0.05f), albedo(w, h, 3, 0.5f), alpha(w, h, 1, 1.f);
+    for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) output.At(c, row, x) = x % 2 ? 1.f : 0.6f;
+    for (int c = 0; c < 3; ++c) albedo.At(c, 2, 20) = 20.f;
+    output.At(0, row, 17) = 5.f;
+    alpha.At(0, row, 17) = 0.f;
+    for (float bad :
+         {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+          std::numeric_limits<float>::quiet_NaN()}) {
+        Image in = output;
+        in.At(1, row, 12) = bad;
+        NforGlintBandSettings s;
+        Image host = in, twin = in;
+        EXPECT_GT(NforSmoothGlintBands(albedo, &alpha, s, &host), 0u);
+        ref::NforSmoothGlintBands(albedo, &alpha, s.radius, s.sigma, s.tensorSigma, s.bound,
+                                  s.glintAlbedo, s.reach, s.emitterAlbedo, &twin);
+        for (const Image *image : {&host, &twin}) {
+            size_t nonFinite = 0;
+            for (float v : image->data) nonFinite += !std::isfinite(v);
+            EXPECT_EQ(nonFinite, 1u) << bad;
+            EXPECT_EQ(image->At(0, row, 17), 5.f) << bad;
+        }
+    }
 }
 
 // A highlight's band broken into hits and misses (a row alternating 0.6 and 1, within the
@@ -2598,7 +2645,7 @@ TEST(NforGlintBands, SmoothsABrokenBandNearAGlint) {
     };
     NforGlintBandSettings s;
     Image smoothed = output;
-    ASSERT_GT(NforSmoothGlintBands(albedoWithGlint(2, 20), s, &smoothed), 0u);
+    ASSERT_GT(NforSmoothGlintBands(albedoWithGlint(2, 20), nullptr, s, &smoothed), 0u);
     double before = 0, after = 0, spread = 0;
     for (int x = 8; x < 28; ++x) {
         before += output.At(1, row, x);
@@ -2611,14 +2658,14 @@ TEST(NforGlintBands, SmoothsABrokenBandNearAGlint) {
     EXPECT_NEAR(after, before, 0.02 * before);
     EXPECT_EQ(smoothed.At(1, row, 30), output.At(1, row, 30));
     Image far = output;
-    NforSmoothGlintBands(albedoWithGlint(row + 17, 20), s, &far);
+    NforSmoothGlintBands(albedoWithGlint(row + 17, 20), nullptr, s, &far);
     for (int x = 0; x < w; ++x) EXPECT_EQ(far.At(1, row, x), output.At(1, row, x)) << x;
     Image none = output;
-    EXPECT_EQ(NforSmoothGlintBands(Image(w, h, 3, 0.5f), s, &none), 0u);
+    EXPECT_EQ(NforSmoothGlintBands(Image(w, h, 3, 0.5f), nullptr, s, &none), 0u);
     EXPECT_EQ(none.data, output.data);
     s.radius = 0;
     Image off = output;
-    EXPECT_EQ(NforSmoothGlintBands(albedoWithGlint(2, 20), s, &off), 0u);
+    EXPECT_EQ(NforSmoothGlintBands(albedoWithGlint(2, 20), nullptr, s, &off), 0u);
     EXPECT_EQ(off.data, output.data);
 }
 
