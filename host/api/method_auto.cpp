@@ -24,7 +24,10 @@
 #include "host/methods/auto.h"
 #include "host/methods/auto_flat.h"
 #include "host/methods/auto_object_floor.h"
+#include "host/methods/nfor.h"
+#include "host/methods/nfor_band.h"
 #include "host/methods/nfor_lights.h"
+#include "host/methods/nfor_line.h"
 #include "host/methods/run_memo.h"
 
 namespace mcd::api {
@@ -258,6 +261,13 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "combination's, nfor's output, if its light over those pixels is at least "
                    "0.995 of the combination's (0: off)",
                    &O::flatNfor, 0, 1),
+        IntParam("auto-glint-band-radius",
+                 "beside half-buffers, on a frame with an albedo channel above 8 (a glint), "
+                 "last: nfor's glint bands' pass (as its --glint-band-radius) on the output: "
+                 "within 16 px of a glint each pixel that is no emitter moves towards the "
+                 "output's mean along its line (its structure tensor's direction of least "
+                 "change) by the line's coherence, this many samples each side (0: off)",
+                 &O::glintBandRadius, 0, 16),
         ChoiceParam("auto-candidates",
                     "the candidates auto may run, by their --explain labels, comma-separated "
                     "(\"nfor,rhf,pivot k0\"), or all (every one but awr and nfor layer, "
@@ -1158,6 +1168,24 @@ void SpreadLights(const AutoFrontEnd::Options &o, Inputs &inputs, Image *image,
         lights, s.emitterAlbedo, s.weakShare, s.weakAlbedo, s.strongShare, o.lightShare));
 }
 
+// nfor's glint bands' pass on `image` (host/methods/nfor_band.h), one plan line where it
+// moved a pixel.
+void SmoothGlintBands(const AutoFrontEnd::Options &o, Inputs &inputs, Image *image,
+                      std::vector<std::string> *plan) {
+    if (o.glintBandRadius == 0 || !inputs.Has("albedo")) return;
+    NforGlintBandSettings s;
+    s.radius = o.glintBandRadius;
+    s.glintAlbedo = kNforGlintAlbedo;
+    s.reach = kNforGlintReach;
+    const size_t moved = NforSmoothGlintBands(inputs.Get("albedo"), s, image);
+    if (moved == 0) return;
+    plan->push_back(fmt::format(
+        "auto: glint bands: {} pixels within {} of a glint (an albedo channel above {:g}) "
+        "moved towards the output's mean along their line ({} samples each side), by its "
+        "coherence, emitters left out (--auto-glint-band-radius)",
+        moved, s.reach, s.glintAlbedo, s.radius));
+}
+
 // The object lift on `image` (host/methods/auto_object_floor.h), one plan line per object
 // lifted, or one on why it was left out or lifted nothing.
 void LiftObjects(const AutoFrontEnd::Options &o, Inputs &inputs, const Image &color,
@@ -1405,6 +1433,12 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
         "tents {} within it) + the noise estimate's {} + the local mean's coarse and fine "
         "tents {}",
         box, guard, noise, mean);
+    // The glint bands' pass runs last beside the half-buffers, near glints alone.
+    if (options.glintBandRadius > 0 && inputs.Has("half0.color") && inputs.Has("half1.color") &&
+        inputs.Has("albedo") && NforLineSpreads(inputs.Get("albedo"), kNforGlintAlbedo)) {
+        needs.reach += kNforGlintBandReach;
+        needs.reachText += fmt::format("; {} for the glint bands", kNforGlintBandReach);
+    }
     // The noise estimate: the colour, the albedo, their second differences and the result.
     needs.bytesPerPixel = 4 * 4 * 4;
     needs.bindingBytesPerPixel = 4 * 4;
@@ -1584,6 +1618,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     TakeNforWhereFlat(options, inputs, flatNfor, &result.image, &plan);
     LiftObjects(options, inputs, color, &result.image, &plan);
     SpreadLights(options, inputs, &result.image, &plan);
+    if (noise.halves) SmoothGlintBands(options, inputs, &result.image, &plan);
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
     list.clear();
     result.method = "auto";

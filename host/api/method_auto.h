@@ -150,6 +150,11 @@ class AutoFrontEnd : public FrontEnd {
         // output is within this share of the combination's, nfor's output, if it holds
         // the combination's light there (0: off; host/methods/auto_flat.h).
         float flatNfor = 0.1f;
+        // Last, beside the half-buffers, on a frame with a glint (an albedo channel above
+        // kNforGlintAlbedo): nfor's glint bands' pass (host/methods/nfor_band.h) with this
+        // many samples each side along each pixel's line. The combination, like nfor's
+        // fits, leaves a highlight's band broken (0: off; issue 30, docs/methods/auto.md).
+        int glintBandRadius = 3;
         // The parameters the user set (not a parameter): auto's settings for the
         // candidates' (MethodEntry::autoSettings) give way; an option that needs another
         // is refused without it.
