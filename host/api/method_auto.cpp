@@ -267,7 +267,7 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                  "within 16 px of a glint each pixel that is no emitter moves towards the "
                  "output's mean along its line (its structure tensor's direction of least "
                  "change) by the line's coherence, this many samples each side (0: off)",
-                 &O::glintBandRadius, 0, 16),
+                 &O::glintBandRadius, 0, kNforGlintBandReach - 1),
         ChoiceParam("auto-candidates",
                     "the candidates auto may run, by their --explain labels, comma-separated "
                     "(\"nfor,rhf,pivot k0\"), or all (every one but awr and nfor layer, "
@@ -1177,7 +1177,8 @@ void SmoothGlintBands(const AutoFrontEnd::Options &o, Inputs &inputs, Image *ima
     s.radius = o.glintBandRadius;
     s.glintAlbedo = kNforGlintAlbedo;
     s.reach = kNforGlintReach;
-    const size_t moved = NforSmoothGlintBands(inputs.Get("albedo"), s, image);
+    const Image *alpha = inputs.Has("alpha") ? &inputs.Get("alpha") : nullptr;
+    const size_t moved = NforSmoothGlintBands(inputs.Get("albedo"), alpha, s, image);
     if (moved == 0) return;
     plan->push_back(fmt::format(
         "auto: glint bands: {} pixels within {} of a glint (an albedo channel above {:g}) "

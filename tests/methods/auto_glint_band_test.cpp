@@ -59,7 +59,7 @@ TEST_F(AutoGlintBands, BesideHalvesTheBandIsSmoothed) {
     s.glintAlbedo = kNforGlintAlbedo;
     s.reach = kNforGlintReach;
     Image expected = unsmoothed;
-    ASSERT_GT(NforSmoothGlintBands(frame.layers.at("albedo"), s, &expected), 0u);
+    ASSERT_GT(NforSmoothGlintBands(frame.layers.at("albedo"), nullptr, s, &expected), 0u);
     EXPECT_EQ(smoothed.image.data, expected.data);
     EXPECT_LT(Unevenness(smoothed.image), Unevenness(unsmoothed));
 }
