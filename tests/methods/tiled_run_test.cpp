@@ -1038,25 +1038,35 @@ TEST_F(GpuTest, TiledRunNforClampLightAcrossTheSeamIsBitIdentical) {
     ASSERT_LE(tile + needs.reach, soft);
 }
 
-// nfor's rare light (a plain frame, the coarse pass shut): pairs of hits the firefly clamp
-// cuts far down, one each side of the seam, one on it and one lone: a source's pair and
-// its Gaussian reach across the seam, so the tiled result is the untiled one bit for bit.
-TEST_F(GpuTest, TiledRunNforRareLightAcrossTheSeamIsBitIdentical) {
-    Device device = api::BorrowDevice(Ctx());
-    const int width = 400, height = 32, tile = 200;
+// A plain 400x32 frame for a two-tile seam at 200: colour level(y, x) x (1 + 5% seeded
+// Gaussian noise, seeded by `path`), a grey albedo of 0.5.
+Frame PlainSeamFrame(const std::string &path, const std::function<double(int, int)> &level) {
+    const int width = 400, height = 32;
     Frame frame;
-    frame.path = "rare light across a seam";
+    frame.path = path;
     frame.width = width, frame.height = height;
     Image color(width, height, 3), albedo(width, height, 3, 0.5f);
     std::mt19937_64 rng(SeedFromName(frame.path));
     std::normal_distribution<double> noise(0, 0.05);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x)
-            for (int c = 0; c < 3; ++c) color.At(c, y, x) = float(0.02 * (1 + noise(rng)));
-    for (auto [y, x] : {std::pair{10, 190}, {14, 205}, {20, 196}, {22, 201}, {8, 60}})
-        for (int c = 0; c < 3; ++c) color.At(c, y, x) = 4.f;
+            for (int c = 0; c < 3; ++c)
+                color.At(c, y, x) = float(level(y, x) * (1 + noise(rng)));
     frame.layers["color"] = std::move(color);
     frame.layers["albedo"] = std::move(albedo);
+    return frame;
+}
+
+// nfor's rare light (a plain frame, the coarse pass shut): pairs of hits the firefly clamp
+// cuts far down, one each side of the seam, one on it and one lone: a source's pair and
+// its Gaussian reach across the seam, so the tiled result is the untiled one bit for bit.
+TEST_F(GpuTest, TiledRunNforRareLightAcrossTheSeamIsBitIdentical) {
+    Device device = api::BorrowDevice(Ctx());
+    const int tile = 200;
+    Frame frame = PlainSeamFrame("rare light across a seam", [](int, int) { return 0.02; });
+    Image &color = frame.layers.at("color");
+    for (auto [y, x] : {std::pair{10, 190}, {14, 205}, {20, 196}, {22, 201}, {8, 60}})
+        for (int c = 0; c < 3; ++c) color.At(c, y, x) = 4.f;
     Params params = {
         {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"coarse-gate", 0.f}};
     auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
@@ -1071,21 +1081,11 @@ TEST_F(GpuTest, TiledRunNforRareLightAcrossTheSeamIsBitIdentical) {
 // with the whole frame's bits (the halo holds the glints' reach).
 TEST_F(GpuTest, TiledRunNforGlintBandsAcrossTheSeamIsBitIdentical) {
     Device device = api::BorrowDevice(Ctx());
-    const int width = 400, height = 32, tile = 200;
-    Frame frame;
-    frame.path = "glint bands across a seam";
-    frame.width = width, frame.height = height;
-    Image color(width, height, 3), albedo(width, height, 3, 0.5f);
-    std::mt19937_64 rng(SeedFromName(frame.path));
-    std::normal_distribution<double> noise(0, 0.05);
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x)
-            for (int c = 0; c < 3; ++c)
-                color.At(c, y, x) =
-                    float((y == 16 ? (x % 2 ? 1.0 : 0.6) : 0.05) * (1 + noise(rng)));
-    for (int c = 0; c < 3; ++c) albedo.At(c, 6, 208) = 20.f;
-    frame.layers["color"] = std::move(color);
-    frame.layers["albedo"] = std::move(albedo);
+    const int tile = 200;
+    Frame frame = PlainSeamFrame("glint bands across a seam", [](int y, int x) {
+        return y == 16 ? (x % 2 ? 1.0 : 0.6) : 0.05;
+    });
+    for (int c = 0; c < 3; ++c) frame.layers.at("albedo").At(c, 6, 208) = 20.f;
     Params params = {
         {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"coarse-gate", 0.f}};
     auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
