@@ -28,6 +28,8 @@
 #                    of installing and building (implies --no-install --no-build)
 #   --test-filter P  the tests run on the device (default '*Kernel*': every kernel-vs-reference
 #                    suite), in one process per core (at most 16), as gtest shards
+#   --test-timeout N seconds one shard may take (default 600); a shard that runs past it or
+#                    crashes is reported with the test it was in, and the others' logs kept
 #   --no-install, --no-build, --no-tests   skip a step
 # Writes DIR/table.csv (device,method,size,gpu_ms,wall_s, one row per run), DIR/kernels.csv
 # (bench kernels' figures per kernel), DIR/table.md (both tables) and DIR/tests.log. A failed
@@ -47,6 +49,7 @@ out=gpu_bench.out
 debs=""
 bundle=""
 testFilter='*Kernel*'
+testTimeout=600
 install=1 build=1 tests=1
 while (($#)); do
     case $1 in
@@ -61,6 +64,7 @@ while (($#)); do
     --debs) debs=$(realpath "$2"); shift ;;
     --bundle) bundle=$(realpath "$2"); install=0 build=0; shift ;;
     --test-filter) testFilter=$2; shift ;;
+    --test-timeout) testTimeout=$2; shift ;;
     --no-install) install=0 ;;
     --no-build) build=0 ;;
     --no-tests) tests=0 ;;
@@ -144,18 +148,29 @@ if ((tests)); then
     say "tests $testFilter on $name, $shards processes"
     pids=()
     for ((i = 0; i < shards; ++i)); do
-        GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$i "$bin/tests/mcd_tests" \
-            --gtest_filter="$testFilter" >"$out/tests_$i.log" 2>&1 &
+        GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$i timeout "$testTimeout" \
+            "$bin/tests/mcd_tests" --gtest_filter="$testFilter" >"$out/tests_$i.log" 2>&1 &
         pids+=($!)
     done
-    for pid in "${pids[@]}"; do wait "$pid" || testsFailed=1; done
+    for ((i = 0; i < shards; ++i)); do
+        rc=0
+        wait "${pids[$i]}" || rc=$?
+        ((rc)) && testsFailed=1
+        # A shard that ended without gtest's summary: name the test it was in.
+        if ((rc == 124 || rc > 128)); then
+            last=$(sed -n 's/^\[ RUN      \] //p' "$out/tests_$i.log" | tail -1)
+            how="crashed (exit $rc)"
+            ((rc == 124)) && how="ran past $testTimeout s"
+            echo "[  FAILED  ] ${last:-(before its first test)}: shard $i $how" >>"$out/tests_$i.log"
+        fi
+    done
     cat "$out"/tests_*.log >"$out/tests.log"
     rm -f "$out"/tests_*.log
     passed=$(sed -n 's/^\[  PASSED  \] \([0-9]*\) tests\{0,1\}\..*/\1/p' "$out/tests.log" |
         awk '{ n += $1 } END { print n + 0 }')
     if ((testsFailed)); then
         say "tests FAILED on $name ($passed passed); see $out/tests.log"
-        grep -E '^\[  FAILED  \] .* \([0-9]+ ms\)$' "$out/tests.log" >&2 || true
+        grep -E '^\[  FAILED  \] .*( \([0-9]+ ms\)|: shard [0-9]+ .*)$' "$out/tests.log" >&2 || true
     else
         say "tests: $passed passed on $name"
     fi

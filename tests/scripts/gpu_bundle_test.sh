@@ -55,4 +55,15 @@ grep -q 'tests FAILED' "$tmp/log2" && grep -q 'Planted.Failure' "$tmp/log2" ||
     { cat "$tmp/log2" >&2; fail "the failure was not reported"; }
 grep -q -E '^[^,]+,bayes,40x30,[0-9.]+,[0-9.]+$' "$tmp/out2/table.csv" ||
     { cat "$tmp/log2" >&2; fail "no table after a failing test"; }
+# A shard that crashes inside a test is reported with that test's name, the table printed.
+printf '#!/bin/sh\necho "[ RUN      ] Planted.Crash"\nkill -SEGV $$\n' \
+    >"$tmp/failing/build/tests/mcd_tests"
+if bash "$root/scripts/gpu_bench.sh" --bundle "$tmp/failing" --sizes 40x30 --kernels-size none \
+    --methods bayes --out "$tmp/out3" >"$tmp/log3" 2>&1; then
+    cat "$tmp/log3" >&2; fail "a crashing test did not fail the script"
+fi
+grep -q -E 'Planted.Crash: shard [0-9]+ crashed \(exit 139\)' "$tmp/log3" ||
+    { cat "$tmp/log3" >&2; fail "the crash was not reported with its test"; }
+grep -q -E '^[^,]+,bayes,40x30,[0-9.]+,[0-9.]+$' "$tmp/out3/table.csv" ||
+    { cat "$tmp/log3" >&2; fail "no table after a crashing test"; }
 echo "gpu_bundle_test: ok"
