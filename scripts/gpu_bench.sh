@@ -118,6 +118,9 @@ if [[ -n "$bundle" ]]; then
     bin=$bundle/build
     export LD_LIBRARY_PATH=$bundle/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
     export VK_LAYER_PATH=$bundle/layers
+    # OpenImageIO tries every reader on a file its extension's reader cannot open, and the
+    # bundle's stand-ins would run: let it try that one reader alone.
+    export OPENIMAGEIO_OPTIONS=${OPENIMAGEIO_OPTIONS:+$OPENIMAGEIO_OPTIONS,}try_all_readers=0
 fi
 tool=$bin/mcdenoise
 [[ -x "$tool" ]] || { say "no $tool (build first)"; exit 1; }

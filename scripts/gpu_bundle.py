@@ -13,7 +13,9 @@ links image formats mcdenoise never reads or writes (video, DICOM, VDB, HEIF, JP
 camera raw, GIF, fonts, colour management); those libraries and everything below them are
 replaced by empty stand-ins: each defines the symbols and symbol versions its users import,
 as functions that return a pointer to zeroed memory, so the loader is satisfied and nothing
-of them runs. Then `scripts/gpu_bench.sh --bundle OUT` runs there (see docs/performance.md).
+of them runs (`gpu_bench.sh --bundle` keeps OpenImageIO from trying them on a file its
+extension's reader cannot open). Then `scripts/gpu_bench.sh --bundle OUT` runs there (see
+docs/performance.md).
 """
 import argparse, os, re, shutil, subprocess, sys, tempfile
 
