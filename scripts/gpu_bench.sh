@@ -25,7 +25,8 @@
 #                    `apt-get download` on a machine of the same release)
 #   --bundle DIR     a machine that cannot build (no network, another distribution): run the
 #                    binaries and libraries packed by scripts/gpu_bundle.py into DIR instead
-#                    of installing and building (implies --no-install --no-build)
+#                    of installing and building (implies --no-install --no-build); or the
+#                    DIR.tar.xz that `gpu_bundle.py --archive` writes, unpacked into --out
 #   --test-filter P  the tests run on the device (default '*Kernel*': every kernel-vs-reference
 #                    suite), in one process per core (at most 16), as gtest shards
 #   --test-timeout N seconds one shard may take (default 600); a shard that runs past it or
@@ -68,7 +69,7 @@ while (($#)); do
     --no-install) install=0 ;;
     --no-build) build=0 ;;
     --no-tests) tests=0 ;;
-    -h | --help) sed -n '2,34p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,37p' "$0"; exit 0 ;;
     *) echo "gpu_bench: unknown argument $1 (--help lists them)" >&2; exit 2 ;;
     esac
     shift
@@ -114,6 +115,13 @@ if ((build)); then
         2>&1 || { say "the build failed; see $out/build.log"; exit 1; }
 fi
 bin=$root/build
+if [[ -f "$bundle" ]]; then
+    say "unpacking $bundle"
+    rm -rf "$out/bundle" && mkdir -p "$out/bundle"
+    tar -xJf "$bundle" -C "$out/bundle" --strip-components=1 || {
+        say "cannot unpack $bundle"; exit 1; }
+    bundle=$out/bundle
+fi
 if [[ -n "$bundle" ]]; then
     bin=$bundle/build
     export LD_LIBRARY_PATH=$bundle/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}

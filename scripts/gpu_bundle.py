@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Pack a build for a GPU machine that cannot build or install (no network, another distro).
 
-usage: python3 scripts/gpu_bundle.py [--build DIR] [--out DIR]
+usage: python3 scripts/gpu_bundle.py [--build DIR] [--out DIR] [--archive]
 
 Copies the tool, the test binary, the OpenImageIO module libmcdenoise_oiio.so (beside the tool,
 where both look for it) and the built SPIR-V (the test binary reads some of it from
@@ -15,9 +15,10 @@ replaced by empty stand-ins: each defines the symbols and symbol versions its us
 as functions that return a pointer to zeroed memory, so the loader is satisfied and nothing
 of them runs (`gpu_bench.sh --bundle` keeps OpenImageIO from trying them on a file its
 extension's reader cannot open). Then `scripts/gpu_bench.sh --bundle OUT` runs there (see
-docs/performance.md).
+docs/performance.md). --archive also writes OUT.tar.xz (a fifth of the size, for a machine
+that takes a limited upload), which `gpu_bench.sh --bundle OUT.tar.xz` unpacks.
 """
-import argparse, os, re, shutil, subprocess, sys, tempfile
+import argparse, os, re, shutil, subprocess, sys, tarfile, tempfile
 
 LIBDIRS = ['/lib/x86_64-linux-gnu', '/usr/lib/x86_64-linux-gnu']
 # Runtimes every target machine has, newer than ours.
@@ -120,6 +121,7 @@ def Main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--build', default='build')
     parser.add_argument('--out', default='gpu_bundle')
+    parser.add_argument('--archive', action='store_true', help='also write OUT.tar.xz')
     args = parser.parse_args()
     # The OpenImageIO module sits beside the tool, where the tool and the tests look for it.
     places = ['mcdenoise', 'tests/mcd_tests', 'libmcdenoise_oiio.so']
@@ -153,6 +155,11 @@ def Main():
     size = sum(os.path.getsize(os.path.join(d, f)) for d, _, fs in os.walk(args.out) for f in fs)
     print(f'gpu_bundle: {args.out}: {len(real) + len(RUNTIME)} libraries, {len(standins)} stand-ins, '
           f'{size / 2**20:.1f} MiB')
+    if args.archive:
+        archive = args.out.rstrip('/') + '.tar.xz'
+        with tarfile.open(archive, 'w:xz') as tar:
+            tar.add(args.out, arcname=os.path.basename(args.out.rstrip('/')))
+        print(f'gpu_bundle: {archive}: {os.path.getsize(archive) / 2**20:.1f} MiB')
 
 
 if __name__ == '__main__':

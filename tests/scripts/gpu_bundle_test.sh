@@ -11,7 +11,8 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "gpu_bundle_test: $*" >&2; exit 1; }
 
-python3 "$root/scripts/gpu_bundle.py" --build "$build" --out "$tmp/bundle"
+python3 "$root/scripts/gpu_bundle.py" --build "$build" --out "$tmp/bundle" --archive
+[[ -f $tmp/bundle.tar.xz ]] || fail "no archive"
 lib=$tmp/bundle/lib
 [[ -f $lib/libOpenImageIO.so.2.4 && -f $lib/libvulkan.so.1 ]] || fail "libraries missing"
 [[ -f $tmp/bundle/layers/VkLayer_khronos_validation.json ]] || fail "validation layer missing"
@@ -32,12 +33,12 @@ env -u MCD_OIIO_MODULE_DIR LD_LIBRARY_PATH=$lib "$tmp/bundle/build/mcdenoise" re
         "$tmp/r.png" >>"$tmp/log" 2>&1 || { cat "$tmp/log" >&2; fail "the bundle's PNG failed"; }
 # The bundle runs: a few tests in shards (all of them counted, the module's PNG ones among
 # them, and one that hands OpenImageIO a file that is no image, which must not reach a
-# stand-in), a frame, one method, the table.
+# stand-in), a frame, one method, the table; from the archive, unpacked by the script.
 filter='VkKernelCache*:VkBuffer*:IoTestModule.PngIsReadAndWrittenThroughTheModule'
 filter+=':IoTest.ErrorsNameTheFileAndTheLayer'
 expected=$(LD_LIBRARY_PATH=$lib "$tmp/bundle/build/tests/mcd_tests" --gtest_list_tests \
     --gtest_filter="$filter" | grep -c '^  ')
-bash "$root/scripts/gpu_bench.sh" --bundle "$tmp/bundle" --test-filter "$filter" \
+bash "$root/scripts/gpu_bench.sh" --bundle "$tmp/bundle.tar.xz" --test-filter "$filter" \
     --sizes 40x30 --kernels-size none --methods bayes --out "$tmp/out" >"$tmp/log" 2>&1 ||
     { cat "$tmp/log" >&2; fail "gpu_bench.sh --bundle failed"; }
 grep -q -E "tests: $expected passed" "$tmp/log" ||
