@@ -7,7 +7,8 @@
 // 0, the channels' mean of (y_k - y_0)^2 over (the channels' mean of y_0)^2 +
 // NFOR_AGREEMENT_FLOOR, averaged over the same window, is below agreement (the last such
 // k); elsewhere candidate 0: the wide window's fit where the narrow one says it has no
-// bias to add. One invocation per pixel.
+// bias to add. One invocation per pixel; by SURE a workgroup (NFOR_LOCAL_SIZE pixels of a
+// row) first makes each pixel's SURE its windows read once, in shared memory.
 #ifndef MCD_SHADERS_NFOR_SELECT_H
 #define MCD_SHADERS_NFOR_SELECT_H
 

@@ -1416,11 +1416,9 @@ TEST_F(NforFitChecks, SecondCandidateOfAnotherWindowThrows) {
 // 2 h); its window mean m u more. Where the reference's best and second best means are
 // closer than that the choice may go either way; elsewhere it must match, and the output is
 // the chosen candidate's value exactly.
-class NforSelectKernel : public GpuTestWithParam<KernelCase> {};
-
-TEST_P(NforSelectKernel, MatchesReferenceAndRepeats) {
-    const auto [w, h, kind] = GetParam();
+void CheckSelect(vk::Context &context, int w, int h, InputKind kind, int radius) {
     std::string name = fmt::format("select{}x{}{}", w, h, InputKindName(kind));
+    if (radius != 2) name += fmt::format("r{}", radius);
     Image color = Positive(kind, w, h, 3, name);
     Image variance = Positive(InputKind::Uniform, w, h, 3, name + "variance");
     std::vector<Image> outputs, hats;
@@ -1432,7 +1430,6 @@ TEST_P(NforSelectKernel, MatchesReferenceAndRepeats) {
         outputs.push_back(out);
         hats.push_back(Positive(InputKind::Uniform, w, h, 1, name + "hat" + std::to_string(k)));
     }
-    const int radius = 2;
     Image expectedChoice;
     Image expected = ref::NforSelect(outputs, hats, color, variance, radius, &expectedChoice);
     Image candidates(w, h, 9), hat(w, h, 3);
@@ -1441,12 +1438,13 @@ TEST_P(NforSelectKernel, MatchesReferenceAndRepeats) {
         std::copy(hats[k].data.begin(), hats[k].data.end(), hat.Plane(k));
     }
     auto run = [&](Image *choice) {
-        vk::GpuImage c = Upload(Ctx(), color, "color"), v = Upload(Ctx(), variance, "variance");
-        vk::GpuImage cand = Upload(Ctx(), candidates, "candidates"),
-                     hh = Upload(Ctx(), hat, "hat");
-        vk::GpuImage out(Ctx(), w, h, 3, "out"), pick(Ctx(), w, h, 1, "choice");
-        vk::Recorder recorder(Ctx());
-        RecordNforSelect(Ctx(), recorder, c, v, cand, hh, 3, radius, out, pick);
+        vk::GpuImage c = Upload(context, color, "color"),
+                     v = Upload(context, variance, "variance");
+        vk::GpuImage cand = Upload(context, candidates, "candidates"),
+                     hh = Upload(context, hat, "hat");
+        vk::GpuImage out(context, w, h, 3, "out"), pick(context, w, h, 1, "choice");
+        vk::Recorder recorder(context);
+        RecordNforSelect(context, recorder, c, v, cand, hh, 3, radius, out, pick);
         recorder.Submit();
         *choice = pick.Download();
         return out.Download();
@@ -1491,8 +1489,26 @@ TEST_P(NforSelectKernel, MatchesReferenceAndRepeats) {
     EXPECT_TRUE(BitIdentical(choice, choiceAgain));
 }
 
+class NforSelectKernel : public GpuTestWithParam<KernelCase> {};
+
+TEST_P(NforSelectKernel, MatchesReferenceAndRepeats) {
+    const auto [w, h, kind] = GetParam();
+    CheckSelect(Ctx(), w, h, kind, 2);
+}
+
 INSTANTIATE_TEST_SUITE_P(Cases, NforSelectKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
+
+// The kernel shares each pixel's SURE among a workgroup's windows: rows wider than one
+// workgroup (64 pixels), ending within one, at the default radius and the largest.
+class NforSelectWide : public GpuTest {};
+
+TEST_F(NforSelectWide, MatchesReferenceAcrossWorkgroups) {
+    for (int radius : {3, NFOR_SURE_MAX_RADIUS}) {
+        SCOPED_TRACE(radius);
+        CheckSelect(Ctx(), 150, 13, InputKind::Uniform, radius);
+    }
+}
 
 // Select by agreement on noisy candidates: a pixel's disagreement d^2 / (m^2 + floor) is a
 // few roundings of itself (every term positive), its window mean (window + 12) u more.
