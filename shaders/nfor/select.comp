@@ -14,11 +14,12 @@ layout(std430, binding = NFOR_SELECT_CHOICE) writeonly buffer Choice { float cho
 
 int w, h;
 
-// Each pixel's SURE over the workgroup's window rows, made once: the window sums below read
-// them in the order they would sum sureAt, so the averages are the same floats.
+// A candidate's SURE of each pixel its workgroup's windows read, made once (about 5 KiB at
+// the largest radius, within the 16 KiB of shared memory Vulkan guarantees): the window sums
+// below read them in the order they would sum sureAt, so the averages are the same floats.
 #define NFOR_SELECT_TILE_WIDTH (NFOR_LOCAL_SIZE + 2 * NFOR_SURE_MAX_RADIUS)
 #define NFOR_SELECT_TILE_ROWS (2 * NFOR_SURE_MAX_RADIUS + 1)
-shared float sureTile[NFOR_MAX_CANDIDATES * NFOR_SELECT_TILE_WIDTH * NFOR_SELECT_TILE_ROWS];
+shared float sureTile[NFOR_SELECT_TILE_WIDTH * NFOR_SELECT_TILE_ROWS];
 
 float sureAt(int k, int x, int y) {
     float e = 0.0;
@@ -61,14 +62,12 @@ int agreeing(int x, int y) {
     return best;
 }
 
-// The SURE of the pixels the workgroup's windows read, candidate by candidate, into
-// sureTile (the tile's columns from x0, its rows from y - r). Every invocation takes part.
-void fillSureTile(int x0, int y, int r) {
-    int tileW = NFOR_LOCAL_SIZE + 2 * r, tileH = 2 * r + 1, perCandidate = tileW * tileH;
-    for (int j = int(gl_LocalInvocationID.x); j < push.candidates * perCandidate;
-         j += NFOR_LOCAL_SIZE) {
-        int k = j / perCandidate, at = j % perCandidate;
-        int u = x0 + at % tileW, v = y - r + at / tileW;
+// Candidate k's SURE of the pixels the workgroup's windows read into sureTile (the tile's
+// columns from x0, its rows from y - r). Every invocation takes part.
+void fillSureTile(int k, int x0, int y, int r) {
+    int tileW = NFOR_LOCAL_SIZE + 2 * r, count = tileW * (2 * r + 1);
+    for (int j = int(gl_LocalInvocationID.x); j < count; j += NFOR_LOCAL_SIZE) {
+        int u = x0 + j % tileW, v = y - r + j / tileW;
         if (u >= 0 && u < w && v >= 0 && v < h) sureTile[j] = sureAt(k, u, v);
     }
     barrier();
@@ -79,25 +78,28 @@ void main() {
     w = push.width;
     h = push.height;
     int r = push.radius, best = 0;
-    bool bySure = !(push.agreement > 0.0);
     int x0 = int(gl_WorkGroupID.x) * NFOR_LOCAL_SIZE - r, tileW = NFOR_LOCAL_SIZE + 2 * r;
-    if (bySure) fillSureTile(x0, y, r);
-    if (x >= w) return;
     float bestSure = 0.0;
-    for (int k = 0; k < (bySure ? push.candidates : 0); ++k) {
-        float sum = 0.0;
-        int count = 0;
-        for (int v = max(0, y - r); v <= min(h - 1, y + r); ++v)
-            for (int u = max(0, x - r); u <= min(w - 1, x + r); ++u) {
-                sum += sureTile[(k * (2 * r + 1) + v - (y - r)) * tileW + u - x0];
-                ++count;
+    // The candidates in turn through one tile: the loop is the workgroup's, not the pixel's.
+    for (int k = 0; k < (push.agreement > 0.0 ? 0 : push.candidates); ++k) {
+        fillSureTile(k, x0, y, r);
+        if (x < w) {
+            float sum = 0.0;
+            int count = 0;
+            for (int v = max(0, y - r); v <= min(h - 1, y + r); ++v)
+                for (int u = max(0, x - r); u <= min(w - 1, x + r); ++u) {
+                    sum += sureTile[(v - (y - r)) * tileW + u - x0];
+                    ++count;
+                }
+            float mean = sum / float(count);
+            if (k == 0 || mean < bestSure) {
+                best = k;
+                bestSure = mean;
             }
-        float mean = sum / float(count);
-        if (k == 0 || mean < bestSure) {
-            best = k;
-            bestSure = mean;
         }
+        barrier();  // the next candidate's fill overwrites the tile
     }
+    if (x >= w) return;
     if (push.agreement > 0.0) best = agreeing(x, y);
     for (int c = 0; c < channels; ++c)
         outputs[(c * h + y) * w + x] = candidates[((best * channels + c) * h + y) * w + x];

@@ -8,7 +8,8 @@
 // NFOR_AGREEMENT_FLOOR, averaged over the same window, is below agreement (the last such
 // k); elsewhere candidate 0: the wide window's fit where the narrow one says it has no
 // bias to add. One invocation per pixel; by SURE a workgroup (NFOR_LOCAL_SIZE pixels of a
-// row) first makes each pixel's SURE its windows read once, in shared memory.
+// row) first makes each pixel's SURE its windows read once, in shared memory, a candidate
+// at a time.
 #ifndef MCD_SHADERS_NFOR_SELECT_H
 #define MCD_SHADERS_NFOR_SELECT_H
 
