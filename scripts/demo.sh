@@ -2,9 +2,9 @@
 # Build mcdenoise and run its main job on the built-in default scene, writing images and a
 # report to out/demo/: the cornell scene rendered with every layer group (the frame the
 # methods will denoise), a reference (cached after the first run), previews, and the
-# error of the noisy frame against the reference; then each of the four methods (awr,
-# rhf, bayes, pivot) and auto (the default: all of them combined per pixel) with its
-# plan, time and error against the reference;
+# error of the noisy frame against the reference; then each of the five methods (awr,
+# rhf, bayes, pivot, nfor) and auto (the default: them combined per pixel) with its plan,
+# time and error against the reference;
 # then the wavelet foundation on the frame (a GPU DWT round trip with every band dumped)
 # and the wavelet benchmark at a size that finishes quickly.
 set -euo pipefail
@@ -22,7 +22,7 @@ mcd=build/mcdenoise
         -o "$out/cornell-reference.exr" --preview "$out/cornell-reference.png"
     $mcd info "$out/cornell.exr"
     $mcd compare "$out/cornell.exr" "$out/cornell-reference.exr"
-    for method in awr rhf bayes pivot auto; do
+    for method in awr rhf bayes pivot nfor auto; do
         $mcd denoise "$out/cornell.exr" --method $method --explain -o "$out/cornell-$method.exr" \
             --preview "$out/cornell-$method.png" --reference "$out/cornell-reference.exr"
     done
