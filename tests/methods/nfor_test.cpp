@@ -713,7 +713,7 @@ Image RandomTrust(int w, int h, const std::string &name) {
 // correctly, NVIDIA's H200 does not), so each value is within that of the reference; the
 // divisors and signs are copied, exact. With 1, 3 and 4 colour channels, an albedo of as many
 // or 1 channel, or none; with and without a trust plane.
-constexpr double kDivisionRoundoffs = 5 * 0x1p-24;
+constexpr double kDivisionRoundoffs = 5 * kU;
 
 class NforIlluminationKernel : public GpuTestWithParam<KernelCase> {};
 
