@@ -63,9 +63,9 @@ int agreeing(int x, int y) {
 }
 
 // Candidate k's SURE of the pixels the workgroup's windows read into sureTile (the tile's
-// columns from x0, its rows from y - r). Every invocation takes part.
-void fillSureTile(int k, int x0, int y, int r) {
-    int tileW = NFOR_LOCAL_SIZE + 2 * r, count = tileW * (2 * r + 1);
+// columns from x0, tileW of them, its rows from y - r). Every invocation takes part.
+void fillSureTile(int k, int x0, int tileW, int y, int r) {
+    int count = tileW * (2 * r + 1);
     for (int j = int(gl_LocalInvocationID.x); j < count; j += NFOR_LOCAL_SIZE) {
         int u = x0 + j % tileW, v = y - r + j / tileW;
         if (u >= 0 && u < w && v >= 0 && v < h) sureTile[j] = sureAt(k, u, v);
@@ -82,7 +82,7 @@ void main() {
     float bestSure = 0.0;
     // The candidates in turn through one tile: the loop is the workgroup's, not the pixel's.
     for (int k = 0; k < (push.agreement > 0.0 ? 0 : push.candidates); ++k) {
-        fillSureTile(k, x0, y, r);
+        fillSureTile(k, x0, tileW, y, r);
         if (x < w) {
             float sum = 0.0;
             int count = 0;
