@@ -4,6 +4,8 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <functional>
+#include <mutex>
 #include <vector>
 
 #include <fmt/format.h>
@@ -65,11 +67,12 @@ void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, doub
                   bool pixelNoise, Image *output, std::vector<double> *factors, Image *inMeans,
                   RestoreScratch *scratch) {
     Image &moved = scratch->moved, &squared = scratch->squared;
-    moved = *output;  // a vector's copy keeps its storage where it is large enough
+    ShapeAs(*output, &moved);
     ShapeAs(*output, &squared);
+    // The output without the kept values, copied in the same split loop as the squares.
     ParallelValues(moved.data.size(), 4, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
-            if (kept[i]) moved.data[i] = 0;
+            moved.data[i] = kept[i] ? 0.f : output->data[i];
             float e = clean.data[i] - moved.data[i];
             squared.data[i] = kept[i] ? 0.f : e * e;
         }
@@ -115,15 +118,17 @@ constexpr double kHighlightSigmas = 4;
 std::vector<char> ExactLitPixels(const Image &input, const Image &variance) {
     const size_t n = input.PixelCount();
     std::vector<char> exact(n, 0);
-    for (size_t p = 0; p < n; ++p) {
-        double in = 0;
-        bool zero = true;
-        for (int c = 0; c < input.channels; ++c) {
-            in += input.Plane(c)[p];
-            zero = zero && variance.Plane(variance.channels == 1 ? 0 : c)[p] == 0;
+    ParallelValues(n, 4 * size_t(input.channels), [&](size_t begin, size_t end) {
+        for (size_t p = begin; p < end; ++p) {
+            double in = 0;
+            bool zero = true;
+            for (int c = 0; c < input.channels; ++c) {
+                in += input.Plane(c)[p];
+                zero = zero && variance.Plane(variance.channels == 1 ? 0 : c)[p] == 0;
+            }
+            exact[p] = zero && std::isfinite(in) && in > 0;
         }
-        exact[p] = zero && std::isfinite(in) && in > 0;
-    }
+    });
     return exact;
 }
 
@@ -153,10 +158,9 @@ std::vector<char> OverPixels(const Image &input, const Image *variance,
                              RestoreScratch *scratch) {
     const size_t n = input.PixelCount();
     Image &moved = scratch->moved, &level = scratch->means;
-    moved = output;
+    ShapeAs(output, &moved);
     ParallelValues(moved.data.size(), 2, [&](size_t begin, size_t end) {
-        for (size_t i = begin; i < end; ++i)
-            if (kept[i]) moved.data[i] = 0;
+        for (size_t i = begin; i < end; ++i) moved.data[i] = kept[i] ? 0.f : output.data[i];
     });
     TentMeanInto(moved, r, &scratch->plane, &level);
     std::vector<char> over(n, 0);
@@ -234,6 +238,41 @@ void KeepHighlights(const Image &input, const Image *variance, int r, std::vecto
     }
 }
 
+// Work over [0, n) split as ParallelFor splits whole groups of 64 values: each part writes
+// its own words of a std::vector<bool>, which packs its bits in words of at most 64.
+void ParallelBitGroups(size_t n, size_t costPerValue,
+                       const std::function<void(size_t, size_t)> &work) {
+    ParallelFor(int((n + 63) / 64), n * costPerValue, [&](int begin, int end) {
+        work(size_t(begin) * 64, std::min(n, size_t(end) * 64));
+    });
+}
+
+// The smallest and largest factor of the values not kept (1 and 1 where all are). The
+// factors are products of finite positive ones (RestoreScale), never NaN: their least and
+// greatest do not depend on the order the parts are merged in.
+LocalMeanFactors FactorRange(const std::vector<double> &factors,
+                             const std::vector<bool> &kept) {
+    LocalMeanFactors range;
+    bool any = false;
+    std::mutex lock;
+    ParallelBitGroups(factors.size(), 2, [&](size_t begin, size_t end) {
+        LocalMeanFactors part;
+        bool partAny = false;
+        for (size_t i = begin; i < end; ++i) {
+            if (kept[i]) continue;
+            part.lo = partAny ? std::min(part.lo, factors[i]) : factors[i];
+            part.hi = partAny ? std::max(part.hi, factors[i]) : factors[i];
+            partAny = true;
+        }
+        if (!partAny) return;
+        std::lock_guard<std::mutex> guard(lock);
+        range.lo = any ? std::min(range.lo, part.lo) : part.lo;
+        range.hi = any ? std::max(range.hi, part.hi) : part.hi;
+        any = true;
+    });
+    return range;
+}
+
 }  // namespace
 
 Image TentMean(const Image &image, int r) {
@@ -273,8 +312,10 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
     // restored) are left out of the means and kept: mass balances without them. A method
     // that says which it left is taken at its word.
     std::vector<bool> kept(input.data.size());
-    for (size_t i = 0; i < kept.size(); ++i)
-        kept[i] = left ? bool((*left)[i]) : output->data[i] == input.data[i];
+    ParallelBitGroups(kept.size(), 2, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i)
+            kept[i] = left ? bool((*left)[i]) : output->data[i] == input.data[i];
+    });
     if (variance && (variance->width != input.width || variance->height != input.height ||
                      (variance->channels != 1 && variance->channels != input.channels)))
         variance = nullptr;
@@ -297,14 +338,7 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
     if (rebalance >= 0)
         RestoreScale(clean, kept, 4 * r, rebalance, pixelNoise, output, &factors, &coarseIn,
                      &scratch);
-    LocalMeanFactors range;
-    bool any = false;
-    for (size_t i = 0; i < factors.size(); ++i) {
-        if (kept[i]) continue;
-        range.lo = any ? std::min(range.lo, factors[i]) : factors[i];
-        range.hi = any ? std::max(range.hi, factors[i]) : factors[i];
-        any = true;
-    }
+    LocalMeanFactors range = FactorRange(factors, kept);
     if (left) *left = std::move(kept);
     return range;
 }

@@ -93,9 +93,10 @@ bool SameBits(const Image &a, const Image &b) {
 }
 
 struct Results {
-    Image padded, spun, tileOrder, tent, restored, restoredWithVariance, bounded, base,
-        baseVariance;
-    LocalMeanFactors factors, factorsWithVariance;
+    Image padded, spun, tileOrder, tent, restored, restoredWithVariance, restoredLeft, bounded,
+        base, baseVariance;
+    LocalMeanFactors factors, factorsWithVariance, factorsLeft;
+    std::vector<bool> left;
     size_t moved = 0, highlights = 0;
     int reach = 0;
     std::vector<char> highlight;
@@ -119,6 +120,11 @@ Results RunAll(int w, int h, bool finite, int parts) {
     r.factors = RestoreLocalMeans(input, 2, &r.restored);
     r.restoredWithVariance = output;
     r.factorsWithVariance = RestoreLocalMeans(input, 2, &r.restoredWithVariance, &variance);
+    // The method's own kept values, and on return those with the highlights.
+    r.left.assign(output.data.size(), false);
+    for (size_t i = 0; i < r.left.size(); i += 7) r.left[i] = true;
+    r.restoredLeft = output;
+    r.factorsLeft = RestoreLocalMeans(input, 2, &r.restoredLeft, &variance, 0.5, true, &r.left);
     r.bounded = output;
     r.moved = BoundToNoise(input, variance, 2, &r.bounded);
     Image color = RandomImage(w, h, 3, "parallel color", true);
@@ -140,7 +146,9 @@ TEST(ParallelFor, SameBitsAsTheSerialLoop) {
     };
     for (Case c :
          {Case{1, 1, false}, Case{1, 1, true}, Case{3, 1, false}, Case{1, 5, true},
-          Case{37, 23, false}, Case{37, 23, true}, Case{64, 9, false}, Case{9, 70, true}}) {
+          Case{37, 23, false}, Case{37, 23, true}, Case{64, 9, false}, Case{9, 70, true},
+          // Values over several blocks of ParallelValues (4096) and 64-value groups.
+          Case{131, 67, false}, Case{131, 67, true}}) {
         SCOPED_TRACE(std::to_string(c.w) + "x" + std::to_string(c.h) +
                      (c.finite ? "" : " with NaN/Inf"));
         Results serial = RunAll(c.w, c.h, c.finite, 1);
@@ -154,6 +162,10 @@ TEST(ParallelFor, SameBitsAsTheSerialLoop) {
             EXPECT_TRUE(SameBits(serial.tent, split.tent));
             EXPECT_TRUE(SameBits(serial.restored, split.restored));
             EXPECT_TRUE(SameBits(serial.restoredWithVariance, split.restoredWithVariance));
+            EXPECT_TRUE(SameBits(serial.restoredLeft, split.restoredLeft));
+            EXPECT_EQ(serial.left, split.left);
+            EXPECT_EQ(serial.factorsLeft.lo, split.factorsLeft.lo);
+            EXPECT_EQ(serial.factorsLeft.hi, split.factorsLeft.hi);
             EXPECT_TRUE(SameBits(serial.bounded, split.bounded));
             EXPECT_TRUE(SameBits(serial.base, split.base));
             EXPECT_TRUE(SameBits(serial.baseVariance, split.baseVariance));
