@@ -19,6 +19,7 @@
 #include "host/api/registry.h"
 #include "host/api/tiled_run.h"
 #include "host/common/local_mean.h"
+#include "host/common/parallel.h"
 #include "host/io/hints.h"
 #include "host/io/layer_names.h"
 #include "host/methods/auto.h"
@@ -317,12 +318,15 @@ Image MakeProbe(const Image &color) {
     return probe;
 }
 
-// The color perturbed by epsilon sqrt(v) b.
+// The color perturbed by epsilon sqrt(v) b, each value on its own: split among the cores.
 Image Perturb(const Image &color, const Image &variance, const Image &probe, float epsilon) {
-    Image perturbed = color;
-    for (size_t i = 0; i < perturbed.data.size(); ++i)
-        perturbed.data[i] +=
-            epsilon * std::sqrt(std::max(variance.data[i], 0.f)) * probe.data[i];
+    Image perturbed(color.width, color.height, color.channels);
+    ParallelValues(perturbed.data.size(), 8, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i)
+            perturbed.data[i] = color.data[i] + epsilon *
+                                                    std::sqrt(std::max(variance.data[i], 0.f)) *
+                                                    probe.data[i];
+    });
     return perturbed;
 }
 
