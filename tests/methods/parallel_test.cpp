@@ -14,6 +14,7 @@
 #include "host/common/cycle_spin.h"
 #include "host/common/highlights.h"
 #include "host/common/local_mean.h"
+#include "host/common/non_finite.h"
 #include "host/common/parallel.h"
 #include "host/kernels/pivot_gather.h"
 #include "host/methods/run_memo.h"
@@ -187,6 +188,33 @@ TEST(ParallelFor, TheFramesExerciseEachPath) {
     EXPECT_GT(r.reach, 0);
     EXPECT_GT(r.highlights, 0u);
     EXPECT_TRUE(r.factors.lo != 1 || r.factors.hi != 1);
+}
+
+// The count of NaN/Inf values and the first in raster order (pixel, then channel) are the
+// same for every split, the first lying in a later block's plane than another one.
+TEST(ParallelFor, CountNonFiniteIsTheSameForEverySplit) {
+    Image image(131, 67, 3, 1.f);  // 26331 values: 7 blocks of ParallelValues
+    for (int parts : {1, 2, 3, 7}) {
+        ForceParallelParts force(parts);
+        EXPECT_EQ(CountNonFinite(image).count, 0u) << parts << " parts";
+    }
+    image.At(0, 60, 100) = std::numeric_limits<float>::quiet_NaN();
+    image.At(2, 10, 5) = std::numeric_limits<float>::infinity();
+    image.At(1, 10, 5) = -std::numeric_limits<float>::infinity();
+    image.At(2, 66, 130) = std::numeric_limits<float>::quiet_NaN();
+    for (int parts : {1, 2, 3, 7}) {
+        ForceParallelParts force(parts);
+        const NonFiniteCount bad = CountNonFinite(image);
+        EXPECT_EQ(bad.count, 4u) << parts << " parts";
+        EXPECT_EQ(bad.x, 5) << parts << " parts";
+        EXPECT_EQ(bad.y, 10) << parts << " parts";
+        EXPECT_EQ(bad.channel, 1) << parts << " parts";
+    }
+    const NonFiniteCount one =
+        CountNonFinite(Image(1, 1, 1, -std::numeric_limits<float>::infinity()));
+    EXPECT_EQ(one.count, 1u);
+    EXPECT_EQ(one.x + one.y + one.channel, 0);
+    EXPECT_EQ(CountNonFinite(Image()).count, 0u);
 }
 
 // An image's memo key is the same however its blocks are split among threads, and moves
