@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "host/common/parallel.h"
 #include "host/error.h"
 #include "host/methods/auto_halves.h"
 
@@ -61,26 +62,32 @@ Image AutoWeightedMean(const std::vector<const Image *> &outputs, const Image &w
                         "and outputs of the image's shape",
                         outputs.size()),
             ErrorKind::InvalidArgument);
-    Image mean = image;
-    for (size_t i = 0; i < pixels; ++i)
-        for (int c = 0; c < image.channels; ++c) {
-            // Normalise over the pairs that count, so a non-finite value biases nothing.
-            auto counts = [&](size_t k) {
-                float w = weights.data[k * pixels + i];
-                return w > 0 && std::isfinite(w) &&
-                       std::isfinite(outputs[k]->data[c * pixels + i]);
-            };
-            double total = 0;
-            for (size_t k = 0; k < outputs.size(); ++k)
-                if (counts(k)) total += weights.data[k * pixels + i];
-            if (!(total > 0)) continue;
-            double sum = 0;
-            for (size_t k = 0; k < outputs.size(); ++k)
-                if (counts(k))
-                    sum +=
-                        weights.data[k * pixels + i] / total * outputs[k]->data[c * pixels + i];
-            mean.data[c * pixels + i] = float(sum);
-        }
+    // Each pixel on its own: the pixels split among the cores, each value written once.
+    Image mean(image.width, image.height, image.channels);
+    const size_t cost = 8 * outputs.size() * size_t(image.channels);
+    ParallelValues(pixels, cost, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i)
+            for (int c = 0; c < image.channels; ++c) {
+                // Normalise over the pairs that count, so a non-finite value biases nothing.
+                auto counts = [&](size_t k) {
+                    float w = weights.data[k * pixels + i];
+                    return w > 0 && std::isfinite(w) &&
+                           std::isfinite(outputs[k]->data[c * pixels + i]);
+                };
+                double total = 0;
+                for (size_t k = 0; k < outputs.size(); ++k)
+                    if (counts(k)) total += weights.data[k * pixels + i];
+                float &value = mean.data[c * pixels + i];
+                value = image.data[c * pixels + i];
+                if (!(total > 0)) continue;
+                double sum = 0;
+                for (size_t k = 0; k < outputs.size(); ++k)
+                    if (counts(k))
+                        sum += weights.data[k * pixels + i] / total *
+                               outputs[k]->data[c * pixels + i];
+                value = float(sum);
+            }
+    });
     return mean;
 }
 

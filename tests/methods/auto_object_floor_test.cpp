@@ -7,12 +7,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "cpu_reference/auto_combine.h"
 #include "harness/gpu_fixture.h"
+#include "harness/inputs.h"
 #include "host/api/device.h"
+#include "host/common/parallel.h"
 #include "host/methods/auto_object_floor.h"
 #include "mcdenoise/mcdenoise.h"
 #include "methods/auto_object_frames.h"
@@ -106,6 +111,42 @@ TEST(AutoObjectFloor, WeightedMeanKeepsTheImageWhereNoCandidateWeighs) {
     Image mean = AutoWeightedMean({&a, &b}, weights, image);
     EXPECT_FLOAT_EQ(mean.data[0], 4.5f);
     EXPECT_EQ(mean.data[1], 7.f);
+}
+
+// The pixels split among threads give the serial loop's bits, at odd sizes, 1x1 and with
+// NaN/Inf outputs and weights (a pair that does not count).
+TEST(AutoObjectFloor, WeightedMeanSplitGivesTheSerialBits) {
+    std::mt19937_64 rng(SeedFromName("auto weighted mean split"));
+    std::uniform_real_distribution<float> unit(0, 1);
+    auto special = [&](float v) {
+        const float u = unit(rng);
+        return u < 0.02f   ? std::numeric_limits<float>::quiet_NaN()
+               : u < 0.04f ? std::numeric_limits<float>::infinity()
+               : u < 0.10f ? 0.f
+                           : v;
+    };
+    for (auto [w, h] : {std::pair{1, 1}, std::pair{3, 1}, std::pair{131, 67}}) {
+        Image image(w, h, 3), weights(w, h, 3);
+        std::vector<Image> outputs(3, Image(w, h, 3));
+        for (float &v : image.data) v = unit(rng);
+        for (float &v : weights.data) v = special(unit(rng));
+        for (Image &o : outputs)
+            for (float &v : o.data) v = special(4 * unit(rng));
+        const std::vector<const Image *> pointers{&outputs[0], &outputs[1], &outputs[2]};
+        Image serial;
+        {
+            ForceParallelParts force(1);
+            serial = AutoWeightedMean(pointers, weights, image);
+        }
+        for (int parts : {2, 3, 7}) {
+            ForceParallelParts force(parts);
+            const Image split = AutoWeightedMean(pointers, weights, image);
+            ASSERT_TRUE(split.SameShape(serial));
+            EXPECT_EQ(0, std::memcmp(split.data.data(), serial.data.data(),
+                                     serial.data.size() * sizeof(float)))
+                << w << "x" << h << ", " << parts << " parts";
+        }
+    }
 }
 
 // Two objects combined, their candidates' weighted mean, and a stand-in restore of the
