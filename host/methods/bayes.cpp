@@ -280,20 +280,23 @@ const char *BayesFitName(int fit) {
 
 std::vector<float> BayesFloors(const Image &color, float floorRel) {
     std::vector<float> floors(color.channels);
-    for (int c = 0; c < color.channels; ++c) {
-        std::vector<float> positive;
-        for (size_t i = 0; i < color.PixelCount(); ++i) {
-            float v = color.Plane(c)[i];
-            if (Finite(v) && v > 0) positive.push_back(v);
+    // Each channel's median on its own: the channels split among the cores.
+    ParallelFor(color.channels, color.data.size() * 16, [&](int begin, int end) {
+        for (int c = begin; c < end; ++c) {
+            std::vector<float> positive;
+            for (size_t i = 0; i < color.PixelCount(); ++i) {
+                float v = color.Plane(c)[i];
+                if (Finite(v) && v > 0) positive.push_back(v);
+            }
+            float median = 1.f;
+            if (!positive.empty()) {
+                auto mid = positive.begin() + positive.size() / 2;
+                std::nth_element(positive.begin(), mid, positive.end());
+                median = *mid;
+            }
+            floors[c] = float(std::max(double(floorRel) * median, 1e-30));
         }
-        float median = 1.f;
-        if (!positive.empty()) {
-            auto mid = positive.begin() + positive.size() / 2;
-            std::nth_element(positive.begin(), mid, positive.end());
-            median = *mid;
-        }
-        floors[c] = float(std::max(double(floorRel) * median, 1e-30));
-    }
+    });
     return floors;
 }
 
@@ -341,6 +344,36 @@ std::vector<double> SwtBandMeans(const vk::GpuImage &part, int w, int h, int cha
                 for (float v : plane) sum += v;
                 means[index] = sum / double(pixels);
             }
+    return means;
+}
+
+// The mean of each detail band of the squared analysis `coef`, channel by channel, level by
+// level, in the order (high x, low y), (low x, high y), (high x, high y): each band summed in
+// order on its own, the bands split among the cores.
+std::vector<double> BandMeans(const Image &coef, int levels) {
+    struct Band {
+        int c, x0, y0, x1, y1;
+    };
+    std::vector<Band> bands;
+    for (int c = 0; c < coef.channels; ++c)
+        for (int level = 0; level < levels; ++level) {
+            int lw = LevelExtent(coef.width, level), lh = LevelExtent(coef.height, level);
+            int lowW = (lw + 1) / 2, lowH = (lh + 1) / 2;
+            bands.push_back({c, lowW, 0, lw, lowH});
+            bands.push_back({c, 0, lowH, lowW, lh});
+            bands.push_back({c, lowW, lowH, lw, lh});
+        }
+    std::vector<double> means(bands.size(), 0.0);
+    ParallelFor(int(bands.size()), coef.data.size(), [&](int begin, int end) {
+        for (int k = begin; k < end; ++k) {
+            const Band &b = bands[k];
+            double sum = 0;
+            size_t n = 0;
+            for (int y = b.y0; y < b.y1; ++y)
+                for (int x = b.x0; x < b.x1; ++x, ++n) sum += coef.At(b.c, y, x);
+            means[k] = n ? sum / double(n) : 0.0;
+        }
+    });
     return means;
 }
 
@@ -428,23 +461,12 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
     Image coef = swt ? Image() : varGpu.Download();
     double toS = std::exp(0.5 * (std::lgamma(1.0 / pn) - std::lgamma(3.0 / pn)));
     std::vector<double> bandVar;
-    for (int c = 0; c < channels; ++c)
-        for (int level = 0; level < levels; ++level) {
-            int lw = LevelExtent(w, level), lh = LevelExtent(h, level);
-            int lowW = (lw + 1) / 2, lowH = (lh + 1) / 2;
-            int box[3][4] = {{lowW, 0, lw, lowH}, {0, lowH, lowW, lh}, {lowW, lowH, lw, lh}};
-            for (int o = 0; swt && o < 3; ++o)
+    if (!swt) bandVar = BandMeans(coef, levels);
+    for (int c = 0; swt && c < channels; ++c)
+        for (int level = 0; level < levels; ++level)
+            for (int o = 0; o < 3; ++o)
                 bandVar.push_back(swtMeans[size_t(c * shader::SwtPlaneCount(levels) +
                                                   shader::SwtDetailPlane(level, o))]);
-            for (auto &b : box) {
-                if (swt) break;
-                double sum = 0;
-                size_t n = 0;
-                for (int y = b[1]; y < b[3]; ++y)
-                    for (int x = b[0]; x < b[2]; ++x, ++n) sum += coef.At(c, y, x);
-                bandVar.push_back(n ? sum / double(n) : 0.0);
-            }
-        }
     if (opponent) {
         size_t perChannel = size_t(levels) * 3;
         for (size_t k = 0; k < perChannel; ++k) {
