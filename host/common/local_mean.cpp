@@ -4,7 +4,6 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <functional>
 #include <mutex>
 #include <vector>
 
@@ -238,15 +237,6 @@ void KeepHighlights(const Image &input, const Image *variance, int r, std::vecto
     }
 }
 
-// Work over [0, n) split as ParallelFor splits whole groups of 64 values: each part writes
-// its own words of a std::vector<bool>, which packs its bits in words of at most 64.
-void ParallelBitGroups(size_t n, size_t costPerValue,
-                       const std::function<void(size_t, size_t)> &work) {
-    ParallelFor(int((n + 63) / 64), n * costPerValue, [&](int begin, int end) {
-        work(size_t(begin) * 64, std::min(n, size_t(end) * 64));
-    });
-}
-
 // The smallest and largest factor of the values not kept (1 and 1 where all are). The
 // factors are products of finite positive ones (RestoreScale), never NaN: their least and
 // greatest do not depend on the order the parts are merged in.
@@ -255,7 +245,7 @@ LocalMeanFactors FactorRange(const std::vector<double> &factors,
     LocalMeanFactors range;
     bool any = false;
     std::mutex lock;
-    ParallelBitGroups(factors.size(), 2, [&](size_t begin, size_t end) {
+    ParallelValues(factors.size(), 2, [&](size_t begin, size_t end) {
         LocalMeanFactors part;
         bool partAny = false;
         for (size_t i = begin; i < end; ++i) {
@@ -311,8 +301,9 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
     // The values the method left as they were (an emitter without a pivot, an exact zero
     // restored) are left out of the means and kept: mass balances without them. A method
     // that says which it left is taken at its word.
+    // ParallelValues's blocks are whole words of the vector<bool>: no two parts share one.
     std::vector<bool> kept(input.data.size());
-    ParallelBitGroups(kept.size(), 2, [&](size_t begin, size_t end) {
+    ParallelValues(kept.size(), 2, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i)
             kept[i] = left ? bool((*left)[i]) : output->data[i] == input.data[i];
     });

@@ -15,10 +15,12 @@ namespace mcd {
 void ParallelFor(int n, size_t cost, const std::function<void(int, int)> &work);
 
 // Calls work(begin, end) on disjoint ranges covering the values [0, n), in blocks split as
-// ParallelFor splits them; `costPerValue` about the operations per value.
+// ParallelFor splits them; `costPerValue` about the operations per value. Every range but
+// the last is whole 64-bit words of a std::vector<bool>, so parts may write one.
 inline void ParallelValues(size_t n, size_t costPerValue,
                            const std::function<void(size_t, size_t)> &work) {
     constexpr size_t kBlock = 4096;
+    static_assert(kBlock % 64 == 0, "blocks split a std::vector<bool> at its words");
     const int blocks = int((n + kBlock - 1) / kBlock);
     ParallelFor(blocks, n * costPerValue, [&](int begin, int end) {
         work(size_t(begin) * kBlock, std::min(n, size_t(end) * kBlock));
