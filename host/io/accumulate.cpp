@@ -48,12 +48,6 @@ bool AllFinite(const Image &image, size_t i) {
     return true;
 }
 
-int PositiveInt(const std::string &text) {
-    char *end = nullptr;
-    long v = std::strtol(text.c_str(), &end, 10);
-    return end != text.c_str() && *end == 0 && v > 0 && v < (1l << 30) ? int(v) : 0;
-}
-
 }  // namespace
 
 std::vector<std::string> AccumulatorReads() {
@@ -111,14 +105,6 @@ void CheckSameLayout(const FrameHeader &first, const FrameHeader &other) {
                                 "same layers in every frame",
                                 other.path, list(other.layers), first.path, list(first.layers)),
                     ErrorKind::InvalidArgument);
-}
-
-int SppFromMetadata(const std::map<std::string, std::string> &metadata) {
-    for (const auto &[key, value] : metadata)
-        if (key == "mcd:spp" || key == "samplesPerPixel" || key == "pbrt:samplesPerPixel" ||
-            (key.starts_with("cycles.") && key.ends_with(".samples")))
-            if (int spp = PositiveInt(value)) return spp;
-    return 0;
 }
 
 namespace {

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "host/common/samples.h"
 #include "host/io/frame.h"
 
 namespace mcd::io {
@@ -28,9 +29,8 @@ FrameHeader ReadFrameHeader(const std::string &path);
 // Throws mcd::Error naming `other`'s file when its size or layers differ from `first`'s.
 void CheckSameLayout(const FrameHeader &first, const FrameHeader &other);
 
-// The samples per pixel a frame's metadata states (our renderer's mcd:spp, Cycles'
-// cycles.<view layer>.samples, pbrt's samplesPerPixel), or 0 when it states none.
-int SppFromMetadata(const std::map<std::string, std::string> &metadata);
+// The samples per pixel a frame's metadata states (host/common/samples.h).
+using mcd::SppFromMetadata;
 
 // RHF Algorithm 1 with the authors' constants, the rule tools/render uses for each sample:
 // add a value of weight 1 to a pixel's 3 x bins histogram (colour c's bins at c * bins).
