@@ -1177,6 +1177,13 @@ Image Nfor(const NforInputs &in, const NforParams &p,
                              kNforGlintReach, p.emitterAlbedo, &out) > 0 &&
         stages)
         stages->emplace_back("glint.band", out);
+    // The rim hits, last, on the output and the colour as written; emitters told as above.
+    if (plain && in.albedo && p.rimRatio > 0) {
+        Image before = out;
+        NforFoldRimHits(*in.color, partly ? albedo : *in.albedo, in.alpha, p.emitterAlbedo,
+                        p.rimRatio, 2, &out);
+        if (stages && out.data != before.data) stages->emplace_back("rim", out);
+    }
     if (stages) stages->emplace_back("output", out);
     return out;
 }

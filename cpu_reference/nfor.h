@@ -218,6 +218,10 @@ struct NforParams {
     // held within glintBandBound (NforSmoothGlintBands, cpu_reference/nfor_band.h); 0: off.
     int glintBandRadius = 0;
     double glintBandSigma = 1.5, glintBandTensorSigma = 1.5, glintBandBound = 2;
+    // Last, where the lights' spread may run (a frame without a variance layer, with an
+    // albedo): the rim hits (NforFoldRimHits, cpu_reference/nfor_lights.h), core ratio this,
+    // radius 2; 0: off.
+    double rimRatio = 0;
     // Beside a variance layer, the specks' clamp, the clamp's light, the weak emitters' mean
     // and the lights' spread run as without one; false: only without one.
     bool layerPasses = true;

@@ -2,6 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "host/common/samples.h"
+
 namespace mcd::api {
 
 RunSetup SetupFor(const Inputs &inputs, const RunOptions &run) {
@@ -32,6 +38,17 @@ std::string ParamValueText(const ParamValue &value) {
     if (const int *i = std::get_if<int>(&value)) return std::to_string(*i);
     if (const float *f = std::get_if<float>(&value)) return fmt::format("{}", *f);
     return std::get<std::string>(value);
+}
+
+int FrameSamplesPerPixel(Inputs &inputs) {
+    if (!inputs.Has("spp")) return SppFromMetadata(inputs.Source().metadata);
+    std::vector<float> spp;
+    for (float v : inputs.Get("spp").data)
+        if (std::isfinite(v)) spp.push_back(v);
+    if (spp.empty()) return 0;
+    auto middle = spp.begin() + long(spp.size() / 2);
+    std::nth_element(spp.begin(), middle, spp.end());
+    return *middle >= 1 ? int(std::lround(*middle)) : 0;
 }
 
 }  // namespace mcd::api

@@ -344,4 +344,8 @@ Result ResultOf(MethodResult &&run);
 // A parameter's value as text: true/false, the number, or the string itself.
 std::string ParamValueText(const ParamValue &value);
 
+// The frame's samples per pixel: the median of its spp layer (rounded) where it has one,
+// else what its metadata states (host/common/samples.h), else 0 (unknown).
+int FrameSamplesPerPixel(Inputs &inputs);
+
 }  // namespace mcd::api

@@ -269,6 +269,14 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                  "output's mean along its line (its structure tensor's direction of least "
                  "change) by the line's coherence, this many samples each side (0: off)",
                  &O::glintBandRadius, 0, kNforGlintBandReach - 1),
+        IntParam(
+            "auto-rim-hits",
+            "on a frame with an albedo layer and a known spp, last: nfor's rim hits (as "
+            "its --rim-hits) on the output: an emitter pixel that at most this many "
+            "samples hit (its albedo at most this / spp of an emitter's within 2 pixels) "
+            "is brought down to the geometric mean of its input and of its neighbours "
+            "that are no emitter, its light moved to that light's brighter pixels (0: off)",
+            &O::rimHits, 0, 1 << 20),
         ChoiceParam("auto-candidates",
                     "the candidates auto may run, by their --explain labels, comma-separated "
                     "(\"nfor,rhf,pivot k0\"), or all (every one but awr and nfor layer, "
@@ -1191,6 +1199,27 @@ void SmoothGlintBands(const AutoFrontEnd::Options &o, Inputs &inputs, Image *ima
         moved, s.reach, s.glintAlbedo, s.radius));
 }
 
+// nfor's rim hits on `image` (host/methods/nfor_lights.h), one plan line where they moved
+// light.
+void FoldRimHits(const AutoFrontEnd::Options &o, Inputs &inputs, Image *image,
+                 std::vector<std::string> *plan) {
+    if (o.rimHits == 0 || !inputs.Has("albedo")) return;
+    const int spp = FrameSamplesPerPixel(inputs);
+    NforRimSettings s;
+    s.coreRatio = NforRimRatio(spp, o.rimHits);
+    if (s.coreRatio == 0) return;
+    const Image *alpha = inputs.Has("alpha") ? &inputs.Get("alpha") : nullptr;
+    const size_t folded =
+        NforFoldRimHits(inputs.Get("color"), inputs.Get("albedo"), alpha, s, image);
+    if (folded == 0) return;
+    plan->push_back(fmt::format(
+        "auto: rim hits: {} emitter pixels of albedo at most 1/{:g} of an emitter's within {} "
+        "(a light's rim that few samples hit) brought down to the geometric mean of their "
+        "input and their ground's, the light they lost given to that light's core "
+        "(--auto-rim-hits {}, spp {})",
+        folded, s.coreRatio, s.radius, o.rimHits, spp));
+}
+
 // The object lift on `image` (host/methods/auto_object_floor.h), one plan line per object
 // lifted, or one on why it was left out or lifted nothing.
 void LiftObjects(const AutoFrontEnd::Options &o, Inputs &inputs, const Image &color,
@@ -1444,6 +1473,13 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
         needs.reach += kNforGlintBandReach;
         needs.reachText += fmt::format("; {} for the glint bands", kNforGlintBandReach);
     }
+    // The rim hits run last, beside emitters alone.
+    if (NforRimRatio(FrameSamplesPerPixel(inputs), options.rimHits) > 0 &&
+        inputs.Has("albedo") &&
+        NforLineSpreads(inputs.Get("albedo"), NforRimSettings{}.emitterAlbedo)) {
+        needs.reach += 2 * NforRimSettings{}.radius;
+        needs.reachText += fmt::format("; {} for the rim hits", 2 * NforRimSettings{}.radius);
+    }
     // The noise estimate: the colour, the albedo, their second differences and the result.
     needs.bytesPerPixel = 4 * 4 * 4;
     needs.bindingBytesPerPixel = 4 * 4;
@@ -1624,6 +1660,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     LiftObjects(options, inputs, color, &result.image, &plan);
     SpreadLights(options, inputs, &result.image, &plan);
     if (noise.halves) SmoothGlintBands(options, inputs, &result.image, &plan);
+    FoldRimHits(options, inputs, &result.image, &plan);
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
     list.clear();
     result.method = "auto";

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "host/api/front_end.h"
+#include "host/methods/nfor_lights.h"
 
 namespace mcd::api {
 
@@ -155,6 +156,11 @@ class AutoFrontEnd : public FrontEnd {
         // many samples each side along each pixel's line. The combination, like nfor's
         // fits, leaves a highlight's band broken (0: off; issue 30, docs/methods/auto.md).
         int glintBandRadius = 3;
+        // Last, on a frame with an albedo layer and a known number of samples per pixel:
+        // nfor's rim hits (host/methods/nfor_lights.h) on the output, a light's rim pixels
+        // that at most this many samples hit brought down to their ground and their light
+        // moved into the light's core (0: off; docs/methods/auto.md).
+        int rimHits = kNforRimHits;
         // The parameters the user set (not a parameter): auto's settings for the
         // candidates' (MethodEntry::autoSettings) give way; an option that needs another
         // is refused without it.

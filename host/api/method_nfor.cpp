@@ -331,6 +331,17 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
             "pixel's + 0.01, a sample of no light black, emitters', empty pixels' and "
             "non-finite samples left out) by the tensor's coherence; 0: off",
             &O::glintBandRadius, 0, kNforGlintBandReach - 1)),
+        nested(IntParam(
+            "rim-hits",
+            "on a frame without a variance layer, last: an emitter pixel that at most this "
+            "many of the frame's samples hit (its largest albedo channel at most this / spp of "
+            "an emitter's within 2 pixels: a light's rim, reading the light times the hits' "
+            "share) is brought down to the geometric mean of its input and of its neighbours "
+            "that are no emitter (their median), and the light it loses goes to that light's "
+            "brighter pixels: the frame's light stays. spp from the frame's spp layer, else "
+            "its metadata (Cycles' cycles.<view layer>.samples); a frame that states none, or "
+            "fewer than 4 x this, is left as it is; 0: off",
+            &O::rimHits, 0, 1 << 20)),
         nested(FloatParam(
             "speck-relative",
             "where no variance layer is read (the frame's own noise estimate; or beside one "
@@ -566,6 +577,14 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             needs.reach += kNforGlintBandReach;
             needs.reachText += fmt::format("; {} for the glint bands", kNforGlintBandReach);
         }
+        // The rim hits run last, beside emitters alone: a pixel's light comes from rim
+        // pixels within their radius, each decided by its core and ground within as much.
+        if (NforRimRatio(FrameSamplesPerPixel(inputs), o.rimHits) > 0 && inputs.Has("albedo") &&
+            NforLineSpreads(inputs.Get("albedo"), o.emitterAlbedo)) {
+            needs.reach += 2 * NforRimSettings{}.radius;
+            needs.reachText +=
+                fmt::format("; {} for the rim hits", 2 * NforRimSettings{}.radius);
+        }
         return needs;
     }
 
@@ -620,6 +639,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         if (inputs.Has("variance")) o.rareLightShare = 0;
         // So were the glint bands'.
         if (inputs.Has("variance")) o.glintBandRadius = 0;
+        const int spp = FrameSamplesPerPixel(inputs);
+        o.rimRatio = NforRimRatio(spp, o.rimHits);
         return o;
     }
 

@@ -67,6 +67,7 @@ ref::NforParams NforReferenceParams(const NforOptions &o,
     p.weakLightShare = o.weakLightShare;
     p.lightShare = o.lightShare;
     p.lineSpread = o.lineSpread;
+    p.rimRatio = o.rimRatio;
     p.coarse = o.coarse;
     p.coarseRelative = o.coarseRelative;
     p.coarseNoise = o.coarseNoise;

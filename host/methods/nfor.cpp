@@ -174,7 +174,8 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.albedoNoise) && o.albedoNoise >= 0) ||
         !(finite(o.glintNoise) && o.glintNoise >= 0) ||
         !(o.rareLightShare >= 0 && o.rareLightShare <= 1) ||
-        !(finite(o.rareLightRatio) && o.rareLightRatio >= 1) || o.glintBandRadius < 0 ||
+        !(finite(o.rareLightRatio) && o.rareLightRatio >= 1) ||
+        !(o.rimRatio == 0 || (finite(o.rimRatio) && o.rimRatio > 1)) || o.glintBandRadius < 0 ||
         o.glintBandRadius >= kNforGlintBandReach)
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
@@ -183,7 +184,8 @@ void CheckOptions(const NforOptions &o) {
             "speck floor, layer and pilot noise caps, albedo noise, glint noise and weak "
             "emitter line finite and >= 0, weak emitter range finite and > 0, speck relative "
             "finite, mean radius >= 0, light shares 0 to 0.25, rare light share 0 to 1, "
-            "ratio finite and >= 1, glint band radius 0 to 15",
+            "ratio finite and >= 1, rim ratio 0 or finite and above 1, glint band radius 0 "
+            "to 15",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
@@ -1072,6 +1074,25 @@ void RestoreClampLight(StagedRun &run, const NforInputs &in, const NforOptions &
     if (o.rareLightShare > 0) SpreadRareLight(run, in, o, clamped, near, result);
 }
 
+// Last, where the lights spread: a light's rim pixels hit by few samples brought down to
+// their ground, their light moved into the light's core.
+void FoldRimHits(StagedRun &run, const Image &color, const Image &albedo, const Image *alpha,
+                 const NforOptions &o, NforResult &result) {
+    NforRimSettings s;
+    s.emitterAlbedo = o.emitterAlbedo;
+    s.coreRatio = o.rimRatio;
+    const size_t folded = NforFoldRimHits(color, albedo, alpha, s, &result.image);
+    if (folded == 0) return;
+    run.AddStage("rim", result.image);
+    run.Plan(fmt::format(
+        "rim hits: {} emitter pixels of albedo at most 1/{:g} of an emitter's within {} (a "
+        "light's rim that at most {} of the {:g} samples hit, reading the light times their "
+        "share) brought down to the geometric mean of their input and their ground's (the "
+        "median of their neighbours that are no emitter), the light they lost given to that "
+        "light's core",
+        folded, s.coreRatio, s.radius, o.rimHits, s.coreRatio * float(o.rimHits)));
+}
+
 // Last, near glints: each pixel towards the output's mean along its line, a highlight's band
 // the fits left broken (host/methods/nfor_band.h).
 void SmoothGlintBands(StagedRun &run, const Image &albedo, const Image *alpha,
@@ -1356,6 +1377,13 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     }
     if (plain && o.glintBandRadius > 0 && given.albedo)
         SmoothGlintBands(run, *given.albedo, given.alpha, o, result);
+    if (plain && in.albedo && o.rimRatio > 0)
+        FoldRimHits(run, *given.color, *in.albedo, given.alpha, o, result);
+    else if (plain && in.albedo && o.rimHits > 0)
+        run.Plan(
+            "left out: the rim hits (the frame states no samples per pixel, no spp layer "
+            "nor metadata such as Cycles' cycles.<view layer>.samples, or too few for "
+            "--rim-hits: under 4 per hit)");
     run.AddStage("output", result.image);
     run.Plan(GpuTimes(run.Timings()));
     run.Finish(result);

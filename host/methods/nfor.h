@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "host/image.h"
+#include "host/methods/nfor_lights.h"
 #include "host/methods/staged_run.h"
 #include "host/vk/context.h"
 #include "nfor/glint.h"
@@ -188,6 +189,14 @@ struct NforOptions {
     // (host/methods/nfor_band.h); 0: off. The method's API sets it on frames without a
     // variance layer only.
     int glintBandRadius = 3;
+    // Where the passes of a frame without a variance layer run, with an albedo, last: the rim
+    // hits (host/methods/nfor_lights.h), an emitter whose albedo is at most 1 / rimRatio of
+    // its light's core's brought down to its ground, its light moved into the core. The
+    // method's API sets rimRatio to the frame's samples per pixel over rimHits (the pixels
+    // that at most rimHits samples hit), 0 (off) where the frame states no samples per pixel
+    // or rimHits is 0.
+    int rimHits = kNforRimHits;
+    float rimRatio = 0;
     // Denoise the frame again at half the resolution and give the output the coarse
     // output's low frequencies where they differ by under min(coarseRelative x the
     // output's local magnitude, coarseNoise x its local residual) (host/methods/nfor_coarse.h):

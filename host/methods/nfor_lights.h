@@ -31,4 +31,37 @@ struct NforLightSettings {
 size_t NforSpreadLights(const Image &albedo, const Image *alpha,
                         const NforLightSettings &settings, Image *output);
 
+// nfor's rim hits (beyond the papers): at a light's rim a pixel that one or two of a
+// frame's samples hit reads the light's radiance times their share (1/16 of it at 16 spp),
+// where the reference's pixel filter leaves it a small part of that. relMSE charges such a
+// pixel many times the frame's mean error, PSNR nothing (both display as white). An emitter
+// pixel whose largest albedo channel is at most 1/coreRatio of an emitter's within radius
+// (Chebyshev; the light's core) is scaled down to the geometric mean of its input and the
+// median input of its 8 neighbours that are no emitter (channel means), and the light it
+// loses goes to that core, each core pixel by its share of the core's output, channel by
+// channel: the frame's light stays, on the pixels where the light is.
+struct NforRimSettings {
+    float emitterAlbedo = 1.5f;  // an emitter: its largest albedo channel above this
+    float coreRatio = 0;         // the core's albedo over the rim pixel's, at least; 0: off
+    int radius = 2;              // how far the core is looked for
+};
+
+// The rim pixels the pass takes are those that at most this many of the frame's samples hit:
+// coreRatio is the frame's samples per pixel over it.
+constexpr int kNforRimHits = 2;
+
+// The core ratio of a frame of `spp` samples per pixel for pixels that at most `hits` of them
+// hit; 0 (off) where that is under 4: a pixel covered by a quarter of the light or more is
+// the light's edge itself, which few samples at 4 spp cannot tell from a rim.
+inline float NforRimRatio(int spp, int hits) {
+    const float ratio = hits > 0 ? float(spp) / float(hits) : 0.f;
+    return ratio >= 4 ? ratio : 0.f;
+}
+
+// The rim hits on `output` (as written), `color` the frame's colour as written; every value
+// read as it came in. Where `alpha` is given, a pixel of alpha 0 (or NaN) takes no part. A
+// pixel with a non-finite output neither gives nor takes. Returns how many pixels gave light.
+size_t NforFoldRimHits(const Image &color, const Image &albedo, const Image *alpha,
+                       const NforRimSettings &settings, Image *output);
+
 }  // namespace mcd

@@ -24,6 +24,33 @@ Frame LayeredFrame(int width, int height) {
     return frame;
 }
 
+// The samples per pixel a method reads off a frame: the spp layer's median (rounded), else
+// the metadata's count (Cycles' key), else 0.
+TEST(FrameSamplesPerPixel, LayerThenMetadataThenUnknown) {
+    Frame frame = LayeredFrame(5, 3);
+    {
+        api::Inputs inputs(frame, false, "nfor");
+        EXPECT_EQ(api::FrameSamplesPerPixel(inputs), 0);
+    }
+    frame.metadata["cycles.ViewLayer.samples"] = "16";
+    {
+        api::Inputs inputs(frame, false, "nfor");
+        EXPECT_EQ(api::FrameSamplesPerPixel(inputs), 16);
+    }
+    Image spp(5, 3, 1, 8.f);
+    spp.data[0] = 64.f, spp.data[1] = 64.f, spp.data[2] = 7.6f;
+    frame.layers["spp"] = spp;
+    {
+        api::Inputs inputs(frame, false, "nfor");
+        EXPECT_EQ(api::FrameSamplesPerPixel(inputs), 8);
+    }
+    frame.layers["spp"] = Image(5, 3, 1, 0.f);
+    {
+        api::Inputs inputs(frame, false, "nfor");
+        EXPECT_EQ(api::FrameSamplesPerPixel(inputs), 0);
+    }
+}
+
 TEST(InputsLayerId, FrameLayersAreTheirValuesHash) {
     const Frame frame = LayeredFrame(23, 17);
     api::Inputs inputs(frame, false, "rhf");

@@ -3199,6 +3199,28 @@ TEST(NforKept, WeakEmittersOnABrightLineKeepTheirLight) {
     EXPECT_TRUE(ImagesMatch(cpu, on, {}, {1e-5, 0, 1e-7}));
 }
 
+// A pass that moves light between pixels: each channel's sum over the finite values of
+// `before` kept in `after` to round-off, and the pixels `alpha` marks empty (0 or NaN) left
+// with their bits.
+void ExpectLightOnlyMoved(const Image &before, const Image &after, const Image *alpha,
+                          const std::string &name) {
+    for (int c = 0; c < before.channels; ++c) {
+        double sumBefore = 0, sumAfter = 0, scale = 0;
+        for (size_t p = 0; p < before.PixelCount(); ++p)
+            if (std::isfinite(before.Plane(c)[p])) {
+                sumBefore += before.Plane(c)[p], sumAfter += after.Plane(c)[p];
+                scale += std::abs(before.Plane(c)[p]);
+            }
+        EXPECT_NEAR(sumAfter, sumBefore, 1e-6 * scale + 1e-12) << name << " channel " << c;
+    }
+    if (!alpha) return;
+    for (size_t i = 0; i < after.Size(); ++i)
+        if (!(alpha->data[i % after.PixelCount()] > 0.f)) {
+            EXPECT_EQ(std::memcmp(&after.data[i], &before.data[i], sizeof(float)), 0)
+                << name << " value " << i;
+        }
+}
+
 // The lights' spread against its reference: values of every kind, emitters weak and
 // strong scattered (some side by side), a non-finite value, frames of one pixel, one row,
 // 3x3 and 31x17; the same pixels change, to round-off; some do; each channel's sum over the
@@ -3236,24 +3258,93 @@ TEST(NforLights, MatchesTheReferenceAndRepeats) {
             ref::NforSpreadLights(albedo, a, 1.5, 8, 0.08, 0.004, &cpu);
             EXPECT_TRUE(ImagesMatch(cpu, host, {}, {4 * kU, 0, 1e-12})) << name;
             EXPECT_TRUE(BitIdentical(host, again)) << name;
-            for (int c = 0; c < 3; ++c) {
-                double before = 0, after = 0, scale = 0;
-                for (size_t p = 0; p < input.PixelCount(); ++p)
-                    if (std::isfinite(input.Plane(c)[p])) {
-                        before += input.Plane(c)[p], after += host.Plane(c)[p];
-                        scale += std::abs(input.Plane(c)[p]);
-                    }
-                EXPECT_NEAR(after, before, 1e-6 * scale + 1e-12) << name << " channel " << c;
-            }
-            if (withAlpha)
-                for (size_t i = 0; i < host.Size(); ++i)
-                    if (!(alpha.data[i % host.PixelCount()] > 0.f)) {
-                        EXPECT_EQ(std::memcmp(&host.data[i], &input.data[i], sizeof(float)), 0)
-                            << name << " value " << i;
-                    }
+            ExpectLightOnlyMoved(input, host, withAlpha ? &alpha : nullptr, name);
             gave += count;
         }
     EXPECT_GT(gave, 0u);
+}
+
+// A 7x7 dim frame with a light's 3x3 core (albedo and colour 320) and, beside it, a pixel one
+// of 16 samples hit (20) and one four hit (80): at core ratio 8 the first comes down to the
+// geometric mean of its input and its ground's (0.04), the six core pixels within 2 of it
+// share what it lost; the second, a quarter covered, stays; ratio 0 changes nothing.
+TEST(NforRimHits, ARimHitComesDownToItsGround) {
+    Image albedo(7, 7, 3, 0.5f), color(7, 7, 3, 0.04f);
+    for (int y = 2; y <= 4; ++y)
+        for (int x = 1; x <= 3; ++x)
+            for (int c = 0; c < 3; ++c) albedo.At(c, y, x) = color.At(c, y, x) = 320.f;
+    for (int c = 0; c < 3; ++c) {
+        albedo.At(c, 3, 4) = color.At(c, 3, 4) = 20.f;
+        albedo.At(c, 5, 2) = color.At(c, 5, 2) = 80.f;
+    }
+    NforRimSettings s;
+    s.coreRatio = 8;
+    Image out = color;
+    EXPECT_EQ(NforFoldRimHits(color, albedo, nullptr, s, &out), 1u);
+    const double kept = std::sqrt(0.04 * 20.0);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(out.At(c, 3, 4), kept, 1e-5);
+        EXPECT_EQ(out.At(c, 5, 2), 80.f);
+        for (int y = 2; y <= 4; ++y)
+            for (int x = 1; x <= 3; ++x)
+                EXPECT_NEAR(out.At(c, y, x), x >= 2 ? 320 + (20 - kept) / 6 : 320, 1e-3)
+                    << x << "," << y;
+    }
+    s.coreRatio = 0;
+    Image off = color;
+    EXPECT_EQ(NforFoldRimHits(color, albedo, nullptr, s, &off), 0u);
+    EXPECT_TRUE(BitIdentical(off, color));
+    EXPECT_EQ(NforRimRatio(16, 2), 8.f);
+    EXPECT_EQ(NforRimRatio(8, 2), 4.f);
+    EXPECT_EQ(NforRimRatio(4, 2), 0.f);
+    EXPECT_EQ(NforRimRatio(0, 2), 0.f);
+    EXPECT_EQ(NforRimRatio(16, 0), 0.f);
+}
+
+// The rim hits against their reference: lights of several cores with rims of one to four
+// hits' share scattered on frames of every input kind, a transparent pixel, a NaN output,
+// frames of one pixel, one row, 3x3 and 31x17; the same values to round-off, each channel's
+// sum kept (light only moves), transparent pixels untouched, a rerun bit-identical.
+TEST(NforRimHits, MatchesTheReferenceAndKeepsTheLight) {
+    size_t folded = 0;
+    for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{9, 1}, std::pair{3, 3}})
+        for (InputKind kind : {InputKind::Uniform, InputKind::LogNormalFireflies,
+                               InputKind::Constant, InputKind::Impulse}) {
+            std::string name = fmt::format("rim {}x{} {}", w, h, InputKindName(kind));
+            uint64_t seed = SeedFromName(name);
+            std::mt19937 random{uint32_t(seed)};
+            Image output = MakeVarianceInput(kind, w, h, 3, seed);
+            Image color = MakeVarianceInput(kind, w, h, 3, seed + 2);
+            Image albedo = MakeVarianceInput(InputKind::Uniform, w, h, 3, seed + 1);
+            for (size_t p = 0; p < output.PixelCount(); ++p) {
+                // A core of 300 to 400, or a rim of 1 to 4 sixteenths of 320, read as lit.
+                int draw = int(random() % 5);
+                float level = draw == 0   ? 300.f + float(random() % 100)
+                              : draw == 1 ? 20.f * float(1 + random() % 4)
+                                          : 0.f;
+                if (level == 0) continue;
+                for (int c = 0; c < 3; ++c) {
+                    albedo.Plane(c)[p] = level * (c == 2 ? 0.7f : 1.f);
+                    output.Plane(c)[p] = color.Plane(c)[p] = level * (0.9f + 0.1f * float(c));
+                }
+            }
+            if (w * h > 9) output.At(1, 1, 1) = std::nanf("");
+            Image alpha(w, h, 1, 1.f);
+            const bool withAlpha = kind == InputKind::Uniform || kind == InputKind::Impulse;
+            for (float &a : alpha.data) a = random() % 5 == 0 ? 0.f : 1.f;
+            const Image *a = withAlpha ? &alpha : nullptr;
+            NforRimSettings s;
+            s.coreRatio = 8;
+            Image host = output, again = output, cpu = output;
+            size_t count = NforFoldRimHits(color, albedo, a, s, &host);
+            EXPECT_EQ(NforFoldRimHits(color, albedo, a, s, &again), count);
+            ref::NforFoldRimHits(color, albedo, a, 1.5, 8, 2, &cpu);
+            EXPECT_TRUE(ImagesMatch(cpu, host, {}, {16 * kU, 0, 1e-9})) << name;
+            EXPECT_TRUE(BitIdentical(host, again)) << name;
+            ExpectLightOnlyMoved(output, host, withAlpha ? &alpha : nullptr, name);
+            folded += count;
+        }
+    EXPECT_GT(folded, 0u);
 }
 
 // nfor's defaults on a plain frame: a bright light (a 3x3 block of strong emitters) in a

@@ -807,20 +807,26 @@ TEST_F(GpuTest, TiledRunNforLineSpreadAcrossTheSeamIsBitIdentical) {
 // floor and the glint bands (off here: their gate is such a light too) grow it further, the
 // bands by their reach.
 TEST_F(GpuTest, TiledRunNforHaloTakesTheLineSpreadNearALight) {
-    int reach[3] = {}, floored[3] = {}, banded[3] = {};
+    int reach[3] = {}, floored[3] = {}, banded[3] = {}, rimmed[3] = {};
     for (int lit : {0, 1, 2}) {
         SCOPED_TRACE(fmt::format("light {}", lit));
         Frame frame = RenderedFrame(64, 32, render::kLayersAll);
         frame.layers.erase("variance");
+        // 16 samples a pixel, stated as Cycles states them: the rim hits' pass may run.
+        frame.layers.erase("spp");
+        frame.metadata["cycles.ViewLayer.samples"] = "16";
         Image &albedo = frame.layers.at("albedo");
         if (lit > 0)
             for (int c = 0; c < 3; ++c) albedo.At(c, 16, 32) = 40.f;
         if (lit == 2) albedo.At(0, 16, 32) = std::nanf("");
-        api::TileNeeds needs =
-            NeedsWith("nfor", {{"glint-noise", 0.f}, {"glint-band-radius", 0}}, frame);
+        api::TileNeeds needs = NeedsWith(
+            "nfor", {{"glint-noise", 0.f}, {"glint-band-radius", 0}, {"rim-hits", 0}}, frame);
         reach[lit] = needs.reach;
-        floored[lit] = NeedsWith("nfor", {{"glint-band-radius", 0}}, frame).reach;
-        banded[lit] = NeedsWith("nfor", {{"glint-noise", 0.f}}, frame).reach;
+        floored[lit] =
+            NeedsWith("nfor", {{"glint-band-radius", 0}, {"rim-hits", 0}}, frame).reach;
+        banded[lit] = NeedsWith("nfor", {{"glint-noise", 0.f}, {"rim-hits", 0}}, frame).reach;
+        rimmed[lit] =
+            NeedsWith("nfor", {{"glint-noise", 0.f}, {"glint-band-radius", 0}}, frame).reach;
         const std::string text = fmt::format("{} for the line spread", kNforLineReach);
         EXPECT_EQ(needs.reachText.find(text) != std::string::npos, lit > 0) << needs.reachText;
     }
@@ -831,6 +837,9 @@ TEST_F(GpuTest, TiledRunNforHaloTakesTheLineSpreadNearALight) {
     EXPECT_EQ(floored[2], floored[1]);
     EXPECT_EQ(banded[0], reach[0]);
     EXPECT_EQ(banded[1], reach[1] + kNforGlintBandReach);
+    // The rim hits': a core's and a ground's reach.
+    EXPECT_EQ(rimmed[0], reach[0]);
+    EXPECT_EQ(rimmed[1], reach[1] + 2 * NforRimSettings{}.radius);
 }
 
 // nfor on a plain frame over a transparent background (no variance layer, an alpha with
@@ -1094,6 +1103,30 @@ TEST_F(GpuTest, TiledRunNforGlintBandsAcrossTheSeamIsBitIdentical) {
         ran |= line.find("glint bands:") != std::string::npos;
     EXPECT_TRUE(ran);
     ExpectSameBits(whole.image, tiled.image, "nfor tiled, the glint bands");
+}
+
+// The rim hits across a tile seam: a light whose core lies left of the seam and whose rim
+// hits (one of 16 samples) lie on both sides comes out with the whole frame's bits (the
+// halo holds the core's and the ground's reach).
+TEST_F(GpuTest, TiledRunNforRimHitsAcrossTheSeamIsBitIdentical) {
+    Device device = api::BorrowDevice(Ctx());
+    const int tile = 200;
+    Frame frame = PlainSeamFrame("rim hits across a seam", [](int, int) { return 0.05; });
+    frame.metadata["cycles.ViewLayer.samples"] = "16";
+    Image &color = frame.layers.at("color"), &albedo = frame.layers.at("albedo");
+    for (int y = 14; y <= 16; ++y)
+        for (int x = 197; x <= 199; ++x)
+            for (int c = 0; c < 3; ++c) color.At(c, y, x) = albedo.At(c, y, x) = 320.f;
+    for (auto [y, x] : {std::pair{13, 199}, {15, 200}, {17, 198}, {16, 201}})
+        for (int c = 0; c < 3; ++c) color.At(c, y, x) = albedo.At(c, y, x) = 20.f;
+    Params params = {
+        {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"coarse-gate", 0.f}};
+    auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
+    bool ran = false;
+    for (const std::string &line : whole.plan)
+        ran |= line.find("rim hits:") != std::string::npos;
+    EXPECT_TRUE(ran);
+    ExpectSameBits(whole.image, tiled.image, "nfor tiled, the rim hits");
 }
 
 // nfor's halo holds the clamp's light's reach only where the pass runs: on a plain frame
