@@ -17,8 +17,8 @@ void NforSpreadLights(const Image &albedo, const Image *alpha, double emitterAlb
 
 // The rim hits (host/methods/nfor_lights.h). With v the output as it came in and m(q) the
 // mean of q's channels: an emitter p of largest albedo channel a_p, finite output and alpha
-// above 0 (or no alpha) is a rim pixel where some emitter q != p of the same kind within
-// `radius` (Chebyshev) has a_q >= coreRatio a_p (its core K_p), some of its 8 neighbours is no
+// above 0 (or no alpha) is a rim pixel where some other such emitter q within `radius`
+// (Chebyshev) has a_q >= coreRatio a_p (those q: its core K_p), some of its 8 neighbours is no
 // emitter with alpha above 0 and a finite colour mean, and m(v_p) > t_p = sqrt(max(g, 0)
 // m(color_p)), g the median of those neighbours' colour means and m(color_p) finite and
 // above 0. Such a p becomes v_p t_p / m(v_p); in each channel the light it loses, L_p = v_p (1

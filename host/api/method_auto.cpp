@@ -1199,18 +1199,17 @@ void SmoothGlintBands(const AutoFrontEnd::Options &o, Inputs &inputs, Image *ima
         moved, s.reach, s.glintAlbedo, s.radius));
 }
 
-// nfor's rim hits on `image` (host/methods/nfor_lights.h), one plan line where they moved
-// light.
-void FoldRimHits(const AutoFrontEnd::Options &o, Inputs &inputs, Image *image,
-                 std::vector<std::string> *plan) {
+// nfor's rim hits on `image` (host/methods/nfor_lights.h) against the frame's `color`, one
+// plan line where they moved light.
+void FoldRimHits(const AutoFrontEnd::Options &o, Inputs &inputs, const Image &color,
+                 Image *image, std::vector<std::string> *plan) {
     if (o.rimHits == 0 || !inputs.Has("albedo")) return;
     const int spp = FrameSamplesPerPixel(inputs);
     NforRimSettings s;
     s.coreRatio = NforRimRatio(spp, o.rimHits);
     if (s.coreRatio == 0) return;
     const Image *alpha = inputs.Has("alpha") ? &inputs.Get("alpha") : nullptr;
-    const size_t folded =
-        NforFoldRimHits(inputs.Get("color"), inputs.Get("albedo"), alpha, s, image);
+    const size_t folded = NforFoldRimHits(color, inputs.Get("albedo"), alpha, s, image);
     if (folded == 0) return;
     plan->push_back(fmt::format(
         "auto: rim hits: {} emitter pixels of albedo at most 1/{:g} of an emitter's within {} "
@@ -1660,7 +1659,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     LiftObjects(options, inputs, color, &result.image, &plan);
     SpreadLights(options, inputs, &result.image, &plan);
     if (noise.halves) SmoothGlintBands(options, inputs, &result.image, &plan);
-    FoldRimHits(options, inputs, &result.image, &plan);
+    FoldRimHits(options, inputs, color, &result.image, &plan);
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
     list.clear();
     result.method = "auto";
