@@ -78,5 +78,43 @@ TEST_F(AutoLights, EmittersGiveTheirRimsHalfOfNforsShares) {
     EXPECT_EQ(spread.image.At(0, h - 1, 0), unspread.At(0, h - 1, 0));
 }
 
+// auto's rim hits, last: a 3x3 light (albedo and colour 320) with a pixel one of 16 samples
+// hit beside it (20) in an 8-spp cornell frame (the spp layer set to 16): the output is auto's
+// without the pass (--auto-rim-hits 0) with nfor's rim hits at ratio 16 / 2, bit for bit;
+// the frame's light stays.
+TEST_F(AutoLights, ARimHitComesDownLast) {
+    Device device = api::BorrowDevice(Ctx());
+    Frame frame = RenderCornell(true);
+    Image &albedo = frame.layers.at("albedo"), &color = frame.layers.at("color");
+    for (int y = 10; y < 13; ++y)
+        for (int x = 14; x < 17; ++x)
+            for (int c = 0; c < 3; ++c) albedo.At(c, y, x) = color.At(c, y, x) = 320.f;
+    for (int c = 0; c < 3; ++c) albedo.At(c, 11, 17) = color.At(c, 11, 17) = 20.f;
+    frame.layers["spp"] = Image(color.width, color.height, 1, 16.f);
+
+    Method on("auto"), off("auto");
+    off.Set("auto-rim-hits", 0);
+    Result folded = on.Run(device, frame);
+    const Image unfolded = off.Run(device, frame).image;
+    EXPECT_TRUE(PlanHas(folded, "auto: rim hits: 1 emitter pixels"))
+        << fmt::format("{}", fmt::join(folded.plan, "\n"));
+    NforRimSettings s;
+    s.coreRatio = NforRimRatio(16, kNforRimHits);
+    Image expected = unfolded;
+    const Image *alpha = frame.layers.count("alpha") ? &frame.layers.at("alpha") : nullptr;
+    ASSERT_EQ(NforFoldRimHits(color, albedo, alpha, s, &expected), 1u);
+    EXPECT_EQ(folded.image.data, expected.data);
+    EXPECT_LT(folded.image.At(0, 11, 17), 0.5f * unfolded.At(0, 11, 17));
+    const size_t pixels = color.PixelCount();
+    for (int c = 0; c < 3; ++c) {
+        double before = 0, after = 0;
+        for (size_t i = 0; i < pixels; ++i) {
+            before += unfolded.data[c * pixels + i];
+            after += folded.image.data[c * pixels + i];
+        }
+        EXPECT_NEAR(after, before, 1e-5 * before);
+    }
+}
+
 }  // namespace
 }  // namespace mcd::test
