@@ -6,6 +6,8 @@
 #                    jittered by the pixel filter (common.py, JitterCamera);
 #   acc.exr          those frames through `mcdenoise accumulate` (mean and statistics);
 #   ref/chunkNN.exr  the reference in chunks of 1024 spp, each its own seed;
+#   plain-SEED.exr   with --plain-seeds: more plain frames like plain.exr, one per seed, held
+#                    out of the tuning (bench real reads plain.exr alone);
 #   ref.exr          the chunks through `mcdenoise accumulate`: color is their mean, and
 #                    half0.color / half1.color the means of the odd and even chunks (two
 #                    halves of different seeds, whose difference estimates the reference's
@@ -15,7 +17,7 @@
 # by round over the scenes, so a stopped run has chunks of every scene.
 #
 # Usage: realset.sh [--out DIR] [--scenes a,b,...] [--ref-spp N] [--size N] [--frames N]
-#                   [--tool PATH]
+#                   [--tool PATH] [--plain-seeds S,S,...]
 #   --out      cache directory (default ~/.cache/mcdenoise/realset); one folder per scene
 #   --scenes   scenes to render (default all: scripts/blender/<scene>.py)
 #   --ref-spp  reference samples per pixel for every scene, a multiple of 2048 (default
@@ -24,6 +26,7 @@
 #   --size     image side in pixels (default 256)
 #   --frames   1-spp frames to accumulate and spp of the plain frame (default 16)
 #   --tool     the mcdenoise binary (default: build/mcdenoise, else mcdenoise on the PATH)
+#   --plain-seeds  comma-separated seeds of extra plain frames (e.g. 2001,3001,4001,5001)
 # Renders run one at a time under `nice -n 10`; DIR/realset.log has each render's time.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -34,6 +37,7 @@ refSpp=
 size=256
 frames=16
 tool=
+plainSeeds=
 while [ $# -gt 0 ]; do
     case $1 in
         --out) out=$2; shift 2 ;;
@@ -42,6 +46,7 @@ while [ $# -gt 0 ]; do
         --size) size=$2; shift 2 ;;
         --frames) frames=$2; shift 2 ;;
         --tool) tool=$2; shift 2 ;;
+        --plain-seeds) plainSeeds=$2; shift 2 ;;
         -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
         *) echo "realset.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
     esac
@@ -56,6 +61,10 @@ if [ -n "$refSpp" ] && { [ "$refSpp" -lt 2048 ] || [ $((refSpp % 2048)) -ne 0 ];
     exit 2
 fi
 chunkSpp=1024
+IFS=, read -r -a seeds <<< "$plainSeeds"
+for seed in "${seeds[@]}"; do
+    [[ $seed =~ ^[0-9]+$ ]] || { echo "realset.sh: --plain-seeds: '$seed' is no seed" >&2; exit 2; }
+done
 IFS=, read -r -a list <<< "$scenes"
 for scene in "${list[@]}"; do
     [ -f "$here/$scene.py" ] || { echo "realset.sh: no scene script $here/$scene.py" >&2; exit 2; }
@@ -155,6 +164,9 @@ for scene in "${list[@]}"; do
     CheckStamp "$scene"
     dir=$out/$scene
     Render "$dir/plain.exr" "$frames" 1001 --passes default
+    for seed in "${seeds[@]}"; do
+        Render "$dir/plain-$seed.exr" "$frames" "$seed" --passes default
+    done
     RenderFrames "$dir/frames"
     inputs=()
     for s in $(seq 1 "$frames"); do inputs+=("$(printf '%s/frames/%02d.exr' "$dir" "$s")"); done
