@@ -276,7 +276,7 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
             "samples hit (its albedo at most this / spp of an emitter's within 2 pixels) "
             "is brought down to the geometric mean of its input and of its neighbours "
             "that are no emitter, its light moved to that light's brighter pixels (0: off)",
-            &O::rimHits, 0, 1 << 20),
+            &O::rimHits, 0, 1000),
         ChoiceParam("auto-candidates",
                     "the candidates auto may run, by their --explain labels, comma-separated "
                     "(\"nfor,rhf,pivot k0\"), or all (every one but awr and nfor layer, "

@@ -341,7 +341,7 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
             "brighter pixels: the frame's light stays. spp from the frame's spp layer, else "
             "its metadata (Cycles' cycles.<view layer>.samples); a frame that states none, or "
             "fewer than 4 x this, is left as it is; 0: off",
-            &O::rimHits, 0, 1 << 20)),
+            &O::rimHits, 0, 1000)),
         nested(FloatParam(
             "speck-relative",
             "where no variance layer is read (the frame's own noise estimate; or beside one "
