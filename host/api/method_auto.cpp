@@ -1473,9 +1473,9 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
         needs.reachText += fmt::format("; {} for the glint bands", kNforGlintBandReach);
     }
     // The rim hits run last, beside emitters alone.
-    if (NforRimRatio(FrameSamplesPerPixel(inputs), options.rimHits) > 0 &&
-        inputs.Has("albedo") &&
-        NforLineSpreads(inputs.Get("albedo"), NforRimSettings{}.emitterAlbedo)) {
+    if (options.rimHits > 0 && inputs.Has("albedo") &&
+        NforLineSpreads(inputs.Get("albedo"), NforRimSettings{}.emitterAlbedo) &&
+        NforRimRatio(FrameSamplesPerPixel(inputs), options.rimHits) > 0) {
         needs.reach += 2 * NforRimSettings{}.radius;
         needs.reachText += fmt::format("; {} for the rim hits", 2 * NforRimSettings{}.radius);
     }

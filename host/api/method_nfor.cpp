@@ -579,8 +579,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         }
         // The rim hits run last, beside emitters alone: a pixel's light comes from rim
         // pixels within their radius, each decided by its core and ground within as much.
-        if (NforRimRatio(FrameSamplesPerPixel(inputs), o.rimHits) > 0 && inputs.Has("albedo") &&
-            NforLineSpreads(inputs.Get("albedo"), o.emitterAlbedo)) {
+        if (o.rimRatio > 0 && NforLineSpreads(inputs.Get("albedo"), o.emitterAlbedo)) {
             needs.reach += 2 * NforRimSettings{}.radius;
             needs.reachText +=
                 fmt::format("; {} for the rim hits", 2 * NforRimSettings{}.radius);
@@ -639,8 +638,10 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         if (inputs.Has("variance")) o.rareLightShare = 0;
         // So were the glint bands'.
         if (inputs.Has("variance")) o.glintBandRadius = 0;
-        const int spp = FrameSamplesPerPixel(inputs);
-        o.rimRatio = NforRimRatio(spp, o.rimHits);
+        // The frame's spp (a pass over its spp layer) only where the rim hits could run.
+        o.rimRatio = o.rimHits > 0 && inputs.Has("albedo")
+                         ? NforRimRatio(FrameSamplesPerPixel(inputs), o.rimHits)
+                         : 0.f;
         return o;
     }
 

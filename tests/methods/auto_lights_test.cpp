@@ -19,6 +19,19 @@ namespace {
 
 class AutoLights : public GpuTest {};
 
+// The light moves, none is made or lost: each colour channel's sum over the frame kept.
+void ExpectLightKept(const Image &before, const Image &after) {
+    const size_t pixels = before.PixelCount();
+    for (int c = 0; c < 3; ++c) {
+        double sumBefore = 0, sumAfter = 0;
+        for (size_t i = 0; i < pixels; ++i) {
+            sumBefore += before.data[c * pixels + i];
+            sumAfter += after.data[c * pixels + i];
+        }
+        EXPECT_NEAR(sumAfter, sumBefore, 1e-5 * sumBefore) << "channel " << c;
+    }
+}
+
 TEST_F(AutoLights, AFrameWithoutEmittersKeepsItsBits) {
     Device device = api::BorrowDevice(Ctx());
     Method on("auto"), off("auto");
@@ -60,18 +73,12 @@ TEST_F(AutoLights, EmittersGiveTheirRimsHalfOfNforsShares) {
     EXPECT_EQ(spread.image.data, expected.data);
 
     // A rim pixel took the light's share of each emitter beside it; the light kept the rest.
-    const size_t pixels = color.PixelCount();
     for (int c = 0; c < 3; ++c) {
         const float light = unspread.At(c, 10, 14);
         EXPECT_FLOAT_EQ(spread.image.At(c, 10, 13), unspread.At(c, 10, 13) + 0.002f * light);
         EXPECT_LT(spread.image.At(c, 10, 14), light);
-        double before = 0, after = 0;  // the light moves, none is made or lost
-        for (size_t i = 0; i < pixels; ++i) {
-            before += unspread.data[c * pixels + i];
-            after += spread.image.data[c * pixels + i];
-        }
-        EXPECT_NEAR(after, before, 1e-5 * before);
     }
+    ExpectLightKept(unspread, spread.image);
     // The weak light gives 0.04 to its two neighbours inside the frame.
     EXPECT_NE(spread.image.At(0, 1, w - 1), unspread.At(0, 1, w - 1));
     EXPECT_NE(spread.image.At(0, 0, w - 2), unspread.At(0, 0, w - 2));
@@ -105,15 +112,7 @@ TEST_F(AutoLights, ARimHitComesDownLast) {
     ASSERT_EQ(NforFoldRimHits(color, albedo, alpha, s, &expected), 1u);
     EXPECT_EQ(folded.image.data, expected.data);
     EXPECT_LT(folded.image.At(0, 11, 17), 0.5f * unfolded.At(0, 11, 17));
-    const size_t pixels = color.PixelCount();
-    for (int c = 0; c < 3; ++c) {
-        double before = 0, after = 0;
-        for (size_t i = 0; i < pixels; ++i) {
-            before += unfolded.data[c * pixels + i];
-            after += folded.image.data[c * pixels + i];
-        }
-        EXPECT_NEAR(after, before, 1e-5 * before);
-    }
+    ExpectLightKept(unfolded, folded.image);
 }
 
 }  // namespace
