@@ -67,9 +67,10 @@ namespace {
 // lower median of the half squared differences of the pairs that count (both divided alike
 // to the pixel; relaxed: both divided where it is, both not where it is not, the pixel in
 // neither) over the median
-// of chi^2_1, the smallest over the directions with at least minPairs pairs; -1 for none.
+// of chi^2_1 (sparse: where that median is 0, their mean), the smallest over the directions
+// with at least minPairs pairs; -1 for none.
 double SmallestMedian(const Image &image, const Image *divisor, int radius, int c, int x, int y,
-                      bool relaxed, size_t minPairs) {
+                      bool relaxed, size_t minPairs, bool sparse) {
     const int dirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
     double a = Divisor(divisor, c, x, y), best = -1;
     for (const auto &d : dirs) {
@@ -90,6 +91,11 @@ double SmallestMedian(const Image &image, const Image *divisor, int radius, int 
             }
         if (halves.size() < minPairs || halves.empty()) continue;
         double estimate = LowerMedian(halves) / kNforChi2Median;
+        if (estimate == 0 && sparse) {
+            double sum = 0;
+            for (double half : halves) sum += half;
+            estimate = sum / double(halves.size());
+        }
         if (best < 0 || estimate < best) best = estimate;
     }
     return best;
@@ -98,18 +104,18 @@ double SmallestMedian(const Image &image, const Image *divisor, int radius, int 
 }  // namespace
 
 Image NforNoise(const Image &image, const Image *divisor, int radius, double calibration,
-                bool relaxed) {
+                bool relaxed, bool sparse) {
     Image out(image.width, image.height, image.channels);
     for (int c = 0; c < image.channels; ++c)
         for (int y = 0; y < image.height; ++y)
             for (int x = 0; x < image.width; ++x) {
                 double a = Divisor(divisor, c, x, y);
-                double best =
-                    SmallestMedian(image, divisor, radius, c, x, y, false, kNforNoiseMinPairs);
+                double best = SmallestMedian(image, divisor, radius, c, x, y, false,
+                                             kNforNoiseMinPairs, sparse);
                 // An edge pixel unlike its neighbours: their pairs divided as it is.
                 if (best < 0 && relaxed)
                     best = SmallestMedian(image, divisor, radius, c, x, y, true,
-                                          kNforNoiseMinRelaxedPairs);
+                                          kNforNoiseMinRelaxedPairs, sparse);
                 double scale = a > 0 ? a * a : 1;
                 out.At(c, y, x) = best < 0 ? 0.f : float(best * calibration * scale);
             }
@@ -833,7 +839,8 @@ namespace {
 bool NforCoarseGateOpen(const Image &color, const Image *albedo, const NforParams &p) {
     if (p.coarse) return true;
     if (p.coarseGate <= 0) return false;
-    Image own = NforNoise(color, albedo, p.noiseRadius, p.noiseMinCalibration);
+    Image own =
+        NforNoise(color, albedo, p.noiseRadius, p.noiseMinCalibration, false, p.sparseNoise);
     return NforRelativeNoise(color, own) >= p.coarseGate;
 }
 
@@ -934,7 +941,8 @@ Image NforClampFrame(const NforInputs &in, const NforParams &p, const Image &var
     const bool ownClamp = in.variance && p.clampEstimate;
     *onLayer = false;
     if (ownClamp)
-        *clampVariance = NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration);
+        *clampVariance = NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration,
+                                   false, p.sparseNoise);
     auto clamp = [&](const Image &noise) {
         return NforClamp(color, noise, in.albedo, mask, p.fireflyThreshold, p.fireflyRelative,
                          p.fireflyRank, p.fireflyLightEdge, p.fireflySum, p.fireflyLine,
@@ -965,7 +973,8 @@ Image NforClampFrame(const NforInputs &in, const NforParams &p, const Image &var
 void NforCapLayer(const NforInputs &in, const NforParams &p, const Image &clamped,
                   const Image *alpha, double cap, Image *variance) {
     if (!in.variance || cap <= 0) return;
-    Image estimate = NforNoise(clamped, in.albedo, p.noiseRadius, p.noiseMinCalibration, true);
+    Image estimate = NforNoise(clamped, in.albedo, p.noiseRadius, p.noiseMinCalibration, true,
+                               p.sparseNoise);
     if (alpha) estimate = NforStraight(estimate, *alpha, 1);
     for (size_t i = 0; i < variance->data.size(); ++i)
         variance->data[i] = std::min(variance->data[i], float(cap) * estimate.data[i]);
@@ -1059,9 +1068,9 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
         if (stages) stages->emplace_back(name, image);
     };
     const Image &color = *in.color;
-    Image variance = in.variance
-                         ? *in.variance
-                         : NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration);
+    Image variance = in.variance ? *in.variance
+                                 : NforNoise(color, in.albedo, p.noiseRadius,
+                                             p.noiseMinCalibration, false, p.sparseNoise);
     Image mask = NforMask(in.albedo, color.width, color.height, p.emitterAlbedo);
     keep("mask", mask);
     const bool ownClamp = in.variance && p.clampEstimate;
@@ -1077,7 +1086,8 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
     if (!in.variance && p.edgeNoise) {
         // The weights' noise estimated again on the clamped colour, edge pixels relaxed.
         keep("clamp.variance", variance);
-        variance = NforNoise(clamped, in.albedo, p.noiseRadius, p.noiseMinCalibration, true);
+        variance = NforNoise(clamped, in.albedo, p.noiseRadius, p.noiseMinCalibration, true,
+                             p.sparseNoise);
         // A partly covered pixel holds a N of its N samples: 1 / a times the variance of the
         // covered pixels its estimate read.
         if (alpha) variance = NforStraight(variance, *alpha, 1);

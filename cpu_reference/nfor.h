@@ -131,6 +131,9 @@ struct NforParams {
     // Without a variance layer: the clamp reads the estimate above, the rest the one of
     // the clamped colour with edge pixels relaxed (NforNoise's relaxed).
     bool edgeNoise = true;
+    // The colour's estimates: a direction whose median is 0 takes its mean (NforNoise's
+    // sparse).
+    bool sparseNoise = true;
     // With a variance layer: the clamp reads the frame's estimate above (the layer's
     // fireflies report their own variance), the rest the layer; false: all the layer.
     bool clampEstimate = true;
@@ -259,9 +262,10 @@ struct NforInputs {
 
 // Variance of the pixel mean estimated from `image` (divisor: albedo or nullptr).
 // relaxed: a pixel with too few pairs divided alike takes its neighbours' pairs divided as
-// it is.
+// it is. sparse: a direction whose median half squared difference is 0 (at least half its
+// pairs equal: most samples exactly 0) takes the mean of its half squared differences.
 Image NforNoise(const Image &image, const Image *divisor, int radius, double calibration,
-                bool relaxed = false);
+                bool relaxed = false, bool sparse = false);
 
 // 1 for pixels that take part, 0 for emitters.
 Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo);

@@ -126,6 +126,13 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                          "the clamped colour, and an edge pixel with too few neighbours of "
                          "its albedo takes its neighbours' noise, so that it is smoothed)",
                          &O::noEdgeNoise)),
+        nested(BoolParam("no-sparse-noise",
+                         "estimate the colour's noise by the median of the neighbours' "
+                         "differences alone (by default a direction where at least half of "
+                         "them are 0, as where most of a frame's few samples are exactly 0, "
+                         "takes their mean: there the median reads no noise and the fits "
+                         "left black holes)",
+                         &O::noSparseNoise)),
         nested(BoolParam("clamp-layer",
                          "with a variance layer, the firefly clamp reads the layer instead of "
                          "the frame's own noise estimate (a firefly's few samples report its "

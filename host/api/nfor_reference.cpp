@@ -23,6 +23,7 @@ ref::NforParams NforReferenceParams(const NforOptions &o,
     p.featureWeights.assign(featureWeights.begin(), featureWeights.end());
     p.noiseRadius = o.noiseRadius;
     p.edgeNoise = !o.noEdgeNoise;
+    p.sparseNoise = !o.noSparseNoise;
     p.clampEstimate = !o.clampLayer;
     p.clampLoss = o.clampLoss;
     p.noiseMinCalibration = o.noiseCalibration;

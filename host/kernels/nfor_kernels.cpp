@@ -62,7 +62,7 @@ int NforOffsetCount(int radius) {
 
 void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &image,
                      const vk::GpuImage *divisor, int radius, float calibration,
-                     vk::GpuImage &variance, bool relaxed) {
+                     vk::GpuImage &variance, bool relaxed, bool sparse) {
     CheckSize("nfor noise", image, variance, image.channels);
     if (divisor) {
         CheckSize("nfor noise", image, *divisor, 0);
@@ -83,8 +83,9 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
                            {},
                            (1u << NFOR_NOISE_IMAGE) | (1u << NFOR_NOISE_DIVISOR),
                            0});
-    shader::NforNoisePush push{image.width, image.height, divisor ? divisor->channels : 0,
-                               radius,      calibration,  relaxed ? 1 : 0};
+    shader::NforNoisePush push{image.width,   image.height, divisor ? divisor->channels : 0,
+                               radius,        calibration,  relaxed ? 1 : 0,
+                               sparse ? 1 : 0};
     recorder.Dispatch(
         kernel, "nfor.noise",
         {{NFOR_NOISE_IMAGE, &image.buffer, vk::Access::Read},

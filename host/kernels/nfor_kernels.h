@@ -12,10 +12,10 @@ namespace mcd {
 // shaders/nfor/noise.comp: the variance of each pixel's mean of `image` estimated from the
 // image, divided by `divisor`'s channel (nullptr: none; 1 or >= image's channels); with
 // `relaxed`, a pixel with too few pairs divided alike takes its neighbours' pairs divided
-// as it is.
+// as it is; with `sparse`, a direction whose median is 0 takes its mean (most samples 0).
 void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &image,
                      const vk::GpuImage *divisor, int radius, float calibration,
-                     vk::GpuImage &variance, bool relaxed = false);
+                     vk::GpuImage &variance, bool relaxed = false, bool sparse = false);
 
 // shaders/nfor/clamp.comp: `out` the colour with fireflies clamped, `mask` 0 at emitters;
 // rank 0 compares with the neighbours' median, k > 0 with their k-th largest; lightEdge < 0

@@ -386,9 +386,12 @@ void PlanNoise(StagedRun &run, const NforInputs &in, const NforOptions &o) {
     run.Plan(fmt::format(
         "noise of the colour estimated from the frame (no variance layer): per channel colour "
         "/ albedo{}, the median of half squared neighbour differences over {}x{} windows along "
-        "4 directions, the smallest direction x {} (unbiased on Gaussian noise), x albedo^2",
+        "4 directions{}, the smallest direction x {} (unbiased on Gaussian noise), x albedo^2",
         in.albedo ? "" : " (no albedo: the colour itself)", 2 * o.noiseRadius + 1,
-        2 * o.noiseRadius + 1, o.noiseCalibration));
+        2 * o.noiseRadius + 1,
+        o.noSparseNoise ? " (--no-sparse-noise)"
+                        : " (their mean where that median is 0: most of a few samples 0)",
+        o.noiseCalibration));
     if (o.noEdgeNoise)
         run.Plan("the same estimate for the firefly clamp and the weights (--no-edge-noise)");
     else
@@ -456,7 +459,7 @@ void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforO
     // it is made once, here, and the weights read it too.
     if (ownClamp || !in.variance)
         RecordNforNoise(context, run.Recorder(), gpu.color, albedo, o.noiseRadius,
-                        o.noiseCalibration, clampVariance);
+                        o.noiseCalibration, clampVariance, false, !o.noSparseNoise);
     auto clamp = [&](vk::GpuImage &variance) {
         RecordNforClamp(context, run.Recorder(), gpu.color, variance, albedo,
                         o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
@@ -511,7 +514,7 @@ Image EstimateOnStrips(vk::Context &context, const Image &color, const Image *al
         StagedRun run(context, false);
         const vk::GpuImage *a = divisor ? &*divisor : nullptr;
         RecordNforNoise(context, run.Recorder(), strip, a, o.noiseRadius, o.noiseCalibration,
-                        variance);
+                        variance, false, !o.noSparseNoise);
         if (clamp)
             RecordNforClamp(context, run.Recorder(), strip, variance, a, o.fireflyThreshold,
                             o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
@@ -602,7 +605,7 @@ void CapLayerNoise(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
                           gpu.variance.channels, "nfor.capVariance");
     RecordNforNoise(run.Context(), run.Recorder(), gpu.clamped,
                     gpu.albedo ? &*gpu.albedo : nullptr, o.noiseRadius, o.noiseCalibration,
-                    estimate, true);
+                    estimate, true, !o.noSparseNoise);
     run.Submit();
     Image own = estimate.Download();
     if (alpha) own = NforDivideByAlpha(own, *alpha);
@@ -647,7 +650,7 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
     if (ownClamp) run.StageAtEnd("clamp.variance", gpu.clampVariance);
     if (again)
         RecordNforNoise(context, run.Recorder(), gpu.clamped, albedo, o.noiseRadius,
-                        o.noiseCalibration, gpu.variance, true);
+                        o.noiseCalibration, gpu.variance, true, !o.noSparseNoise);
     if (!in.variance && alpha) {
         // A partly covered pixel divided by its alpha is the mean of a N of its N samples:
         // 1 / a times the variance of the covered pixels whose pairs its estimate read (the

@@ -76,6 +76,9 @@ struct NforOptions {
     // the clamped colour in which an edge pixel (too few neighbours divided alike) takes
     // its neighbours' pairs; true: both read the first.
     bool noEdgeNoise = false;
+    // The colour's own noise estimates take a direction's mean where its median is 0 (most
+    // samples exactly 0: a frame of few samples); true: the median alone.
+    bool noSparseNoise = false;
     float noiseCalibration = 1.479f;  // the smallest of 4 medians, unbiased on Gaussian noise
     // Clamp above the neighbours' median + t sigma + relative |median|; t = 0: off.
     float fireflyThreshold = 4, fireflyRelative = 0.5f;

@@ -45,7 +45,8 @@ bool counts(float a, float a0, float a1, bool relaxed, bool centre) {
 }
 
 // The smallest over the directions with at least minPairs pairs of the median half squared
-// difference over the median of chi^2_1; -1 where no direction has them.
+// difference over the median of chi^2_1 (with push.sparse, where that median is 0, the mean
+// of the half squared differences); -1 where no direction has them.
 float smallestMedian(int x, int y, float a, bool relaxed, int minPairs) {
     const ivec2 dirs[4] = ivec2[4](ivec2(1, 0), ivec2(0, 1), ivec2(1, 1), ivec2(1, -1));
     int r = push.radius;
@@ -72,6 +73,12 @@ float smallestMedian(int x, int y, float a, bool relaxed, int minPairs) {
             }
         if (n < minPairs) continue;
         float estimate = halves[(n - 1) / 2] / float(NFOR_CHI2_MEDIAN);
+        // At least half the pairs equal (most samples exactly 0): the mean sees the rest.
+        if (estimate == 0.0 && push.sparse != 0) {
+            float sum = 0.0;
+            for (int k = 0; k < n; ++k) sum += halves[k];
+            estimate = sum / float(n);
+        }
         if (best < 0.0 || estimate < best) best = estimate;
     }
     return best;
@@ -156,8 +163,12 @@ float smallestMedian1(float a, bool relaxed, int minPairs) {
                 halves[(dv + 1) * 3 + du + 1] = half_;
             }
         if (n < minPairs) continue;
+        // The pairs' sum for the sparse mean, before the network reorders them.
+        float sum = 0.0;
+        [[unroll]] for (int k = 0; k < 9; ++k) sum += halves[k] < inf ? halves[k] : 0.0;
         sortLowest5(halves);
         float estimate = pickSorted(halves, (n - 1) / 2) / float(NFOR_CHI2_MEDIAN);
+        if (estimate == 0.0 && push.sparse != 0) estimate = sum / float(n);
         if (best < 0.0 || estimate < best) best = estimate;
     }
     return best;

@@ -11,7 +11,10 @@
 // neither) both divided where the pixel is (both not where it is not), whatever their
 // divisors, with at least NFOR_NOISE_MIN_RELAXED_PAIRS; times the calibration and
 // the pixel's divisor squared. 0 where no pair fits. A median: a firefly does not raise its
-// neighbours' estimate. One invocation per pixel and channel.
+// neighbours' estimate. With `sparse`, a direction whose median is 0 (at least half its
+// pairs equal: a frame of few samples, most of them exactly 0, whose noise a median cannot
+// see) takes the mean of its half squared differences instead, the variance's unbiased
+// estimate for independent pixels. One invocation per pixel and channel.
 #ifndef MCD_SHADERS_NFOR_NOISE_H
 #define MCD_SHADERS_NFOR_NOISE_H
 
@@ -35,9 +38,10 @@ layout(push_constant) uniform NforNoisePush {
     int radius;           // 1..NFOR_NOISE_MAX_RADIUS
     float calibration;
     int relaxed;  // 1: the fallback for pixels with too few pairs divided alike
+    int sparse;   // 1: a direction whose median is 0 takes the mean of its half squares
 #ifdef __cplusplus
 };
-static_assert(sizeof(NforNoisePush) == 24);
+static_assert(sizeof(NforNoisePush) == 28);
 static_assert(offsetof(NforNoisePush, calibration) == 16);
 }  // namespace mcd::shader
 #else

@@ -125,18 +125,20 @@ double WindowMax(const Image &image, int c, int x, int y, int r,
 // 2u (|z0| + |z1|)^2 of rounding (two divisions, a subtraction, a square), the median selects
 // one of them (a tie swapped by rounding picks a value as close), and 4 more roundings scale
 // it: 16u of (2 max |z|)^2 x divisor^2 x calibration / median(chi^2_1) over the window.
+// The sparse mean of up to 25 half squares, each at most 2 max |z|^2, sums their roundings:
+// under 25u x 2 max |z|^2, inside the same bound.
 void ExpectNoiseMatches(vk::Context &ctx, const Image &image, const Image &albedo, int radius,
-                        bool divided, bool relaxed) {
+                        bool divided, bool relaxed, bool sparse = false) {
     const int w = image.width, h = image.height;
     const float calibration = 1.479f;
     const Image *divisor = divided ? &albedo : nullptr;
-    Image expected = ref::NforNoise(image, divisor, radius, calibration, relaxed);
+    Image expected = ref::NforNoise(image, divisor, radius, calibration, relaxed, sparse);
     auto run = [&] {
         vk::GpuImage in = Upload(ctx, image, "image"), a = Upload(ctx, albedo, "albedo");
         vk::GpuImage out(ctx, w, h, 3, "variance");
         vk::Recorder recorder(ctx);
         RecordNforNoise(ctx, recorder, in, divided ? &a : nullptr, radius, calibration, out,
-                        relaxed);
+                        relaxed, sparse);
         recorder.Submit();
         return out.Download();
     };
@@ -157,7 +159,8 @@ void ExpectNoiseMatches(vk::Context &ctx, const Image &image, const Image &albed
                     float(4 * z * z * a * a * calibration / NFOR_CHI2_MEDIAN);
             }
     EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {16 * kU, 0, 1e-10}))
-        << "radius " << radius << " divided " << divided << " relaxed " << relaxed;
+        << "radius " << radius << " divided " << divided << " relaxed " << relaxed << " sparse "
+        << sparse;
     EXPECT_TRUE(BitIdentical(actual, run()));
 }
 
@@ -172,7 +175,8 @@ TEST_P(NforNoiseKernel, MatchesReferenceAndRepeats) {
     // random albedo have too few neighbours divided alike.
     for (int radius : {1, 2})
         for (auto [divided, relaxed] : {std::pair{false, false}, {true, false}, {true, true}})
-            ExpectNoiseMatches(Ctx(), image, albedo, radius, divided, relaxed);
+            for (bool sparse : {false, true})
+                ExpectNoiseMatches(Ctx(), image, albedo, radius, divided, relaxed, sparse);
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, NforNoiseKernel, testing::ValuesIn(KernelCases()),
@@ -195,6 +199,38 @@ TEST_F(GpuTest, NforNoiseRadiusOneOverManyCountsOfPairs) {
                     unit(rng) < 0.1f ? unit(rng) : 0.2f + 0.1f * ((x / 5 + y / 3) % 4);
     for (auto [divided, relaxed] : {std::pair{false, false}, {true, false}, {true, true}})
         ExpectNoiseMatches(Ctx(), image, albedo, 1, divided, relaxed);
+    // A frame of few samples: a random 30% of the values hold a sample, the rest are 0, so
+    // that many directions' medians are 0 and the sparse mean decides.
+    Image few = image;
+    for (float &v : few.data)
+        if (unit(rng) >= 0.3f) v = 0.f;
+    for (int radius : {1, 2})
+        for (auto [divided, relaxed] : {std::pair{false, false}, {true, false}, {true, true}})
+            ExpectNoiseMatches(Ctx(), few, albedo, radius, divided, relaxed, true);
+}
+
+// One lit pixel (value v) on a black 5x5 frame: every direction's median at its centre is
+// 0; with sparse each direction's 9 pairs over the 3x3 window hold it twice, so the mean
+// is 2 (v^2 / 2) / 9 = v^2 / 9, times the calibration; without, 0. A pixel two above it
+// meets it in one vertical pair only: its horizontal pairs are all 0, the smallest
+// direction's mean 0 both ways.
+TEST_F(GpuTest, NforNoiseSparseTakesTheMeanWhereTheMedianIsZero) {
+    const float v = 3.f, calibration = 1.479f;
+    Image image(5, 5, 3, 0.f);
+    for (int c = 0; c < 3; ++c) image.At(c, 2, 2) = v;
+    for (bool sparse : {false, true}) {
+        vk::GpuImage in = Upload(Ctx(), image, "image");
+        vk::GpuImage out(Ctx(), 5, 5, 3, "variance");
+        vk::Recorder recorder(Ctx());
+        RecordNforNoise(Ctx(), recorder, in, nullptr, 1, calibration, out, false, sparse);
+        recorder.Submit();
+        Image variance = out.Download();
+        const double expected = sparse ? double(v) * v / 9 * calibration : 0.0;
+        EXPECT_NEAR(variance.At(1, 2, 2), expected, 1e-5 * v * v) << "sparse " << sparse;
+        EXPECT_EQ(variance.At(1, 0, 2), 0.f) << "sparse " << sparse;
+        EXPECT_NEAR(ref::NforNoise(image, nullptr, 1, calibration, false, sparse).At(1, 2, 2),
+                    expected, 1e-12);
+    }
 }
 
 // Clamp: the mask is exact; a clamped value is (median z + t sqrt(v) / a) x a, about 5
@@ -2811,7 +2847,9 @@ TEST_F(NforMethod, KeepsTheLightOfRareBrightSamples) {
 
 // The fraction of the light the estimate's clamp takes off, measured for a tiled frame in
 // strips of rows (NforFrameClampLoss), is the one a run on the whole frame measures, bit
-// for bit: strips of one row, of a few and the whole frame, at two noise radii (halos).
+// for bit: strips of one row, of a few and the whole frame, at two noise radii (halos), with
+// the sparse mean (the default: the left half's rare hits among zeros read as noise, so the
+// clamp takes less) and without.
 TEST_F(NforMethod, FrameClampLossInStripsIsTheRunsOwn) {
     const int w = 37, h = 29;
     Frame f = MakeFrame(w, h, 0.1, "strips");
@@ -2830,17 +2868,24 @@ TEST_F(NforMethod, FrameClampLossInStripsIsTheRunsOwn) {
     NforInputs in = InputsOf(f);
     in.variance = &variance;
     for (int noiseRadius : {1, 2}) {
-        NforOptions o;
-        o.radius = 3;
-        o.noiseRadius = noiseRadius;
-        double own = NforDenoise(Ctx(), in, o).clampLoss;
-        EXPECT_GT(own, 0.02) << "the clamp takes some of the light";
-        for (int strip : {w, 3 * w + 5, w * h}) {
-            NforInputs measured = in;
-            NforFrameClampLoss(Ctx(), &measured, o, strip);
-            EXPECT_EQ(measured.clampLoss, own)
-                << "noise radius " << noiseRadius << ", strips of " << strip << " pixels";
+        double losses[2] = {};
+        for (bool sparse : {true, false}) {
+            NforOptions o;
+            o.radius = 3;
+            o.noiseRadius = noiseRadius;
+            o.noSparseNoise = !sparse;
+            double own = NforDenoise(Ctx(), in, o).clampLoss;
+            losses[sparse] = own;
+            EXPECT_GT(own, 0.005) << "the clamp takes some of the light";
+            for (int strip : {w, 3 * w + 5, w * h}) {
+                NforInputs measured = in;
+                NforFrameClampLoss(Ctx(), &measured, o, strip);
+                EXPECT_EQ(measured.clampLoss, own)
+                    << "noise radius " << noiseRadius << ", strips of " << strip
+                    << " pixels, sparse " << sparse;
+            }
         }
+        EXPECT_LT(losses[true], losses[false]) << "noise radius " << noiseRadius;
     }
 }
 
@@ -2979,6 +3024,49 @@ TEST(NforCoarse, RelativeNoiseMatchesTheReference) {
     EXPECT_NEAR(ref::NforRelativeNoise(color, variance), 0.1, 1e-6);
 }
 
+// A frame of few samples: MakeFrame's truth sampled 4 times a pixel, each sample the
+// truth / 0.15 with probability 0.15 and else 0 (a dim interior's light, which few paths
+// find), so that most pixels and most pairs of neighbours are exactly 0. The colour's
+// noise estimate read as a median is then 0 over much of the frame: the firefly clamp takes
+// each lit pixel to its neighbours' median and the fits weigh each pixel alone, leaving
+// black holes. With the sparse mean (the default) under 5% of the pixels come out below a
+// quarter of the truth (a hole) and relMSE is under half; with --no-sparse-noise over 20%.
+TEST_F(NforMethod, FewSamplesLeaveNoBlackHoles) {
+    const int w = 40, h = 32;
+    Frame f = MakeFrame(w, h, 0, "few samples");
+    std::mt19937_64 rng(SeedFromName("few samples hits"));
+    std::uniform_real_distribution<double> unit(0, 1);
+    const double p = 0.15;
+    size_t zeros = 0;
+    for (size_t i = 0; i < f.truth.PixelCount(); ++i) {
+        int hits = 0;
+        for (int s = 0; s < 4; ++s) hits += unit(rng) < p;
+        zeros += hits == 0;
+        for (int c = 0; c < 3; ++c)
+            f.color.Plane(c)[i] = float(f.truth.Plane(c)[i] * hits / (4 * p));
+    }
+    ASSERT_GT(zeros, f.truth.PixelCount() / 2);
+    auto holesAndError = [&](bool sparse) {
+        NforOptions o;
+        o.noSparseNoise = !sparse;
+        Image out = NforDenoise(Ctx(), InputsOf(f), o).image;
+        size_t holes = 0;
+        double error = 0;
+        for (size_t i = 0; i < out.PixelCount(); ++i) {
+            double lum = 0, truth = 0;
+            for (int c = 0; c < 3; ++c) lum += out.Plane(c)[i], truth += f.truth.Plane(c)[i];
+            holes += lum < 0.25 * truth;
+            error += (lum - truth) * (lum - truth) / (truth * truth + 0.01);
+        }
+        return std::pair{double(holes) / out.PixelCount(), error / out.PixelCount()};
+    };
+    auto [holes, error] = holesAndError(true);
+    auto [medianHoles, medianError] = holesAndError(false);
+    EXPECT_LT(holes, 0.05) << "error " << error;
+    EXPECT_GT(medianHoles, 0.2) << "error " << medianError;
+    EXPECT_LT(error, 0.5 * medianError);
+}
+
 // The coarse pass by default: a noisy frame (its own noise estimate relative to relMSE's
 // denominator at least --coarse-gate) takes the pass as --nfor-coarse gives it, a clean one
 // is left as without it, bit for bit; the level the gate read is the reference's estimate's
@@ -2994,7 +3082,8 @@ TEST_F(NforMethod, CoarseGateRunsThePassOnNoisyFramesOnly) {
         SCOPED_TRACE(fmt::format("noise {}", noise));
         Frame f = MakeFrame(w, h, noise, fmt::format("coarse gate {}", noise));
         double expected = ref::NforRelativeNoise(
-            f.color, ref::NforNoise(f.color, &f.albedo, o.noiseRadius, o.noiseCalibration));
+            f.color, ref::NforNoise(f.color, &f.albedo, o.noiseRadius, o.noiseCalibration,
+                                    false, !o.noSparseNoise));
         const bool noisy = noise > 0.1;
         ASSERT_EQ(expected >= o.coarseGate, noisy) << "level " << expected;
         NforResult gated = NforDenoise(Ctx(), InputsOf(f), o);
@@ -3025,7 +3114,8 @@ TEST_F(NforMethod, CoarseGateReadsTheFrameDividedByAlpha) {
     Image straight = ref::NforStraight(f.color, alpha, 1),
           straightAlbedo = ref::NforStraight(f.albedo, alpha, 1);
     double expected = ref::NforRelativeNoise(
-        straight, ref::NforNoise(straight, &straightAlbedo, o.noiseRadius, o.noiseCalibration));
+        straight, ref::NforNoise(straight, &straightAlbedo, o.noiseRadius, o.noiseCalibration,
+                                 false, !o.noSparseNoise));
     NforInputs in = InputsOf(f);
     in.alpha = &alpha;
     NforResult run = NforDenoise(Ctx(), in, o);
