@@ -147,20 +147,30 @@ double MeanLuminance(const Image &image) {
 
 // auto's nfor alone on a frame without statistics: where its output's mean luminance is
 // over 2% off the input's (nfor's firefly clamp took the light of a heavy-tailed frame),
-// run the combination instead, which restores the input's local means. 2%: the bound auto
+// scale it by one factor to the input's mean (--auto-plain-mean gain), or run the
+// combination instead, which restores the input's local means (combine). 2%: the bound auto
 // is held to (docs/methods/auto.md).
-void CombineWhereNforMovedTheMean(vk::Context &context, const api::FrontEnd &automatic,
-                                  const Frame &frame, bool refuseNonFinite,
-                                  const RunOptions &options, api::Inputs &inputs,
-                                  const api::FrontEnd **method, Result *result,
-                                  std::vector<std::string> *plan) {
+void KeepTheMeanOfNforAlone(vk::Context &context, const api::FrontEnd &automatic,
+                            const Frame &frame, bool refuseNonFinite, const RunOptions &options,
+                            api::Inputs &inputs, const api::FrontEnd **method, Result *result,
+                            std::vector<std::string> *plan) {
     double input = MeanLuminance(inputs.Get("color"));
     double ratio = input > 0 ? MeanLuminance(result->image) / input : 1;
     if (std::fabs(ratio - 1) <= 0.02) return;
+    if (std::get<std::string>(automatic.Get("auto-plain-mean")) == "gain" && ratio > 0) {
+        const float gain = float(1 / ratio);
+        for (float &v : result->image.data) v *= gain;
+        plan->push_back(fmt::format(
+            "auto: nfor's output had {:.3f} of the frame's mean luminance (over 2% off: its "
+            "firefly clamp took the light of rare bright samples), so it was scaled by {:.4f} "
+            "to the input's (--auto-plain-mean gain)",
+            ratio, gain));
+        return;
+    }
     plan->push_back(fmt::format(
         "auto: nfor's output had {:.3f} of the frame's mean luminance (over 2% off: its "
         "firefly clamp took the light of rare bright samples), so the candidates were "
-        "combined instead",
+        "combined instead (--auto-plain-mean combine)",
         ratio));
     *method = &automatic;
     api::Inputs again(frame, refuseNonFinite, automatic.Name());
@@ -489,8 +499,8 @@ Result Method::Run(Device &device, const Frame &frame, const RunOptions &options
         if (!demodulate.empty()) demodulation = Demodulate(inputs, *method, frame, demodulate);
         result = api::RunTiled(context, *method, inputs, options);
         if (plainAuto)
-            CombineWhereNforMovedTheMean(context, *plainAuto, frame, refuseNonFinite, options,
-                                         inputs, &method, &result, &autoPlan);
+            KeepTheMeanOfNforAlone(context, *plainAuto, frame, refuseNonFinite, options, inputs,
+                                   &method, &result, &autoPlan);
         if (!demodulate.empty()) Remodulate(demodulation, method->Name(), &result);
         result.warnings.insert(result.warnings.begin(), inputs.warnings.begin(),
                                inputs.warnings.end());

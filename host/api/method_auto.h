@@ -115,6 +115,10 @@ class AutoFrontEnd : public FrontEnd {
         // auto.md: nfor alone beat the combination on the real Cycles frames, with and
         // without albedo and normals).
         std::string plain = "nfor";
+        // Where nfor alone moved the frame's mean luminance by over 2% (its firefly clamp
+        // took the light of rare bright samples): its output scaled back to the input's
+        // mean ("gain") or the candidates combined instead ("combine").
+        std::string plainMean = "gain";
         // The candidates' labels, comma-separated, or all.
         std::string candidates = "all";
         // Beside the relative combination on a frame with an objectId layer: each object

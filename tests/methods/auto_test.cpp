@@ -1591,29 +1591,46 @@ double MeanLuminanceOf(const Image &image) {
 }
 
 // A heavy-tailed frame without statistics: nfor's firefly clamp takes much of its light, so
-// auto falls back to the combination, which keeps the input's mean luminance (within 2%,
-// the bound it checks nfor's output against; nfor alone keeps far less of it).
-TEST_F(AutoMethod, FrameWithoutStatisticsWhoseMeanNforMovesIsCombined) {
+// auto scales nfor's output by one factor to the input's mean luminance (within 2%, the
+// bound it checks nfor's output against), every value alike; with --auto-plain-mean combine
+// it combines the candidates instead, which keep the input's mean too.
+TEST_F(AutoMethod, FrameWithoutStatisticsWhoseMeanNforMovesIsScaledBack) {
     auto [frame, reference] = RenderWithReference(
         "relief-abc", 48, 40, 16, render::kLayersGbuffer | render::kLayersSplit, 16,
         {"variance", "direct.variance", "indirect.variance", "min", "max"});
     Device device = api::BorrowDevice(Ctx());
     double input = MeanLuminanceOf(frame.layers.at("color"));
-    double nfor = MeanLuminanceOf(Method("nfor").Run(device, frame).image) / input;
+    Image alone = Method("nfor").Run(device, frame).image;
+    double nfor = MeanLuminanceOf(alone) / input;
     Result result = Method("auto").Run(device, frame);
     double automatic = MeanLuminanceOf(result.image) / input;
     fmt::print("mean over the input's: nfor {:.3f}, auto {:.3f}\n", nfor, automatic);
-    ASSERT_LT(nfor, 0.97) << "the frame no longer shows what the fallback is for";
-    EXPECT_TRUE(PlanHas(result, "so the candidates were combined instead"))
+    ASSERT_LT(nfor, 0.97) << "the frame no longer shows what the gain is for";
+    EXPECT_TRUE(PlanHas(result, "so it was scaled by"))
         << fmt::format("{}", fmt::join(result.plan, "\n"));
-    EXPECT_EQ(result.method, "auto");
-    EXPECT_GT(result.candidates.size(), 1u);
-    EXPECT_NEAR(automatic, 1, 0.02);
+    EXPECT_EQ(result.method, "nfor");
+    EXPECT_NEAR(automatic, 1, 1e-4);
+    // One factor: each value nfor's times the same gain, to a float rounding.
+    const float gain = float(1 / nfor);
+    ASSERT_EQ(alone.data.size(), result.image.data.size());
+    for (size_t i = 0; i < alone.data.size(); ++i)
+        ASSERT_NEAR(result.image.data[i], alone.data[i] * gain,
+                    1e-6f * std::fabs(alone.data[i] * gain))
+            << "value " << i;
+
+    Method combine("auto");
+    combine.Set("auto-plain-mean", std::string("combine"));
+    Result combined = combine.Run(device, frame);
+    EXPECT_TRUE(PlanHas(combined, "so the candidates were combined instead"))
+        << fmt::format("{}", fmt::join(combined.plan, "\n"));
+    EXPECT_EQ(combined.method, "auto");
+    EXPECT_GT(combined.candidates.size(), 1u);
+    EXPECT_NEAR(MeanLuminanceOf(combined.image) / input, 1, 0.02);
 }
 
 // The bound is auto's own (2%), not a looser one: on glossy-cornell with colour and depth
-// only, nfor alone keeps 0.97-0.98 of the input's mean luminance, so auto combines instead.
-TEST_F(AutoMethod, NforAloneMovingTheMeanByOverTwoPercentIsCombined) {
+// only, nfor alone keeps 0.97-0.98 of the input's mean luminance, so auto scales it back.
+TEST_F(AutoMethod, NforAloneMovingTheMeanByOverTwoPercentIsScaledBack) {
     auto [frame, reference] = RenderWithReference(
         "glossy-cornell", 128, 128, 16, render::kLayersGbuffer, 1,
         {"variance", "min", "max", "spp", "albedo", "normal", "objectId", "partId"});
@@ -1625,9 +1642,9 @@ TEST_F(AutoMethod, NforAloneMovingTheMeanByOverTwoPercentIsCombined) {
     fmt::print("mean over the input's: nfor {:.4f}, auto {:.4f}\n", nfor, automatic);
     ASSERT_TRUE(nfor > 0.97 && nfor < 0.98)
         << "the frame no longer shows what the bound is for";
-    EXPECT_EQ(result.method, "auto") << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_EQ(result.method, "nfor") << fmt::format("{}", fmt::join(result.plan, "\n"));
     EXPECT_TRUE(PlanHas(result, "(over 2% off"));
-    EXPECT_NEAR(automatic, 1, 0.02);
+    EXPECT_NEAR(automatic, 1, 1e-4);
 }
 
 // With --auto-plain combine, a frame with only the ordinary passes (color, albedo, normal,
