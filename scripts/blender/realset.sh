@@ -8,6 +8,8 @@
 #   ref/chunkNN.exr  the reference in chunks of 1024 spp, each its own seed;
 #   plain-SEED.exr   with --plain-seeds: more plain frames like plain.exr, one per seed, held
 #                    out of the tuning (bench real reads plain.exr alone);
+#   acc-SEED.exr     with --acc-seeds: more accumulated frames like acc.exr, of the 1-spp
+#                    frames frames-SEED/NN.exr of seeds SEED..SEED+N-1, held out alike;
 #   ref.exr          the chunks through `mcdenoise accumulate`: color is their mean, and
 #                    half0.color / half1.color the means of the odd and even chunks (two
 #                    halves of different seeds, whose difference estimates the reference's
@@ -17,7 +19,7 @@
 # by round over the scenes, so a stopped run has chunks of every scene.
 #
 # Usage: realset.sh [--out DIR] [--scenes a,b,...] [--ref-spp N] [--size N] [--frames N]
-#                   [--tool PATH] [--plain-seeds S,S,...]
+#                   [--tool PATH] [--plain-seeds S,S,...] [--acc-seeds S,S,...]
 #   --out      cache directory (default ~/.cache/mcdenoise/realset); one folder per scene
 #   --scenes   scenes to render (default all: scripts/blender/<scene>.py)
 #   --ref-spp  reference samples per pixel for every scene, a multiple of 2048 (default
@@ -27,6 +29,8 @@
 #   --frames   1-spp frames to accumulate and spp of the plain frame (default 16)
 #   --tool     the mcdenoise binary (default: build/mcdenoise, else mcdenoise on the PATH)
 #   --plain-seeds  comma-separated seeds of extra plain frames (e.g. 2001,3001,4001,5001)
+#   --acc-seeds    comma-separated first seeds of extra accumulated frames (e.g. 101,201;
+#              the set's acc.exr is seeds 1..N)
 # Renders run one at a time under `nice -n 10`; DIR/realset.log has each render's time.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -38,6 +42,7 @@ size=256
 frames=16
 tool=
 plainSeeds=
+accSeeds=
 while [ $# -gt 0 ]; do
     case $1 in
         --out) out=$2; shift 2 ;;
@@ -47,6 +52,7 @@ while [ $# -gt 0 ]; do
         --frames) frames=$2; shift 2 ;;
         --tool) tool=$2; shift 2 ;;
         --plain-seeds) plainSeeds=$2; shift 2 ;;
+        --acc-seeds) accSeeds=$2; shift 2 ;;
         -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
         *) echo "realset.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
     esac
@@ -64,6 +70,10 @@ chunkSpp=1024
 IFS=, read -r -a seeds <<< "$plainSeeds"
 for seed in "${seeds[@]}"; do
     [[ $seed =~ ^[0-9]+$ ]] || { echo "realset.sh: --plain-seeds: '$seed' is no seed" >&2; exit 2; }
+done
+IFS=, read -r -a accFirst <<< "$accSeeds"
+for seed in "${accFirst[@]}"; do
+    [[ $seed =~ ^[0-9]+$ ]] || { echo "realset.sh: --acc-seeds: '$seed' is no seed" >&2; exit 2; }
 done
 IFS=, read -r -a list <<< "$scenes"
 for scene in "${list[@]}"; do
@@ -124,20 +134,24 @@ Render() {
     rm -f "$blenderLog"
 }
 
-# The jittered 1-spp frames NN.exr, seeds 1..N, in one Blender process unless all exist.
+# The jittered 1-spp frames NN.exr (NN from 01), seeds first..first+N-1, in one Blender
+# process unless all exist. Usage: RenderFrames DIR [FIRST (default 1)].
 RenderFrames() {
-    local dir=$1 s missing=0
+    local dir=$1 first=${2:-1} s missing=0
+    local last=$((first + frames - 1))
     for s in $(seq 1 "$frames"); do [ -f "$(printf '%s/%02d.exr' "$dir" "$s")" ] || missing=1; done
     [ $missing = 1 ] || return 0
     rm -rf "$dir/partial"
     mkdir -p "$dir/partial"
     blenderLog=$dir/partial/blender.log
-    Blender "frames: $frames x 1 spp, seeds 1-$frames" --spp 1 --seed 1 --count "$frames" \
-        --jitter --passes all --out "$dir/partial/{seed}.exr"
-    for s in $(seq 1 "$frames"); do
+    Blender "frames: $frames x 1 spp, seeds $first-$last" --spp 1 --seed "$first" \
+        --count "$frames" --jitter --passes all --out "$dir/partial/{seed}.exr"
+    for s in $(seq "$first" "$last"); do
         [ -f "$dir/partial/$s.exr" ] || { echo "realset.sh: blender wrote no frame $s" >&2; exit 1; }
     done
-    for s in $(seq 1 "$frames"); do mv "$dir/partial/$s.exr" "$(printf '%s/%02d.exr' "$dir" "$s")"; done
+    for s in $(seq "$first" "$last"); do
+        mv "$dir/partial/$s.exr" "$(printf '%s/%02d.exr' "$dir" $((s - first + 1)))"
+    done
     rm -rf "$dir/partial"
 }
 
@@ -171,6 +185,14 @@ for scene in "${list[@]}"; do
     inputs=()
     for s in $(seq 1 "$frames"); do inputs+=("$(printf '%s/frames/%02d.exr' "$dir" "$s")"); done
     Accumulate "$dir/acc.exr" - "${inputs[@]}"
+    for seed in "${accFirst[@]}"; do
+        RenderFrames "$dir/frames-$seed" "$seed"
+        inputs=()
+        for s in $(seq 1 "$frames"); do
+            inputs+=("$(printf '%s/frames-%s/%02d.exr' "$dir" "$seed" "$s")")
+        done
+        Accumulate "$dir/acc-$seed.exr" - "${inputs[@]}"
+    done
 done
 
 # Reference chunks round by round: chunk k of every scene before chunk k + 1 of any.
