@@ -242,7 +242,7 @@ struct NforParams {
     // with `coarse` always, else where NforRelativeNoise of the colour and its own noise
     // estimate is at least coarseGate (> 0).
     bool coarse = false;
-    double coarseRelative = 0.1, coarseNoise = 0.3, coarseGate = 0.02;
+    double coarseRelative = 0.3, coarseNoise = 0.5, coarseGate = 0.02;
 };
 
 // The frame's layers; color and features are required, variance optional (estimated).

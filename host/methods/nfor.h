@@ -206,7 +206,7 @@ struct NforOptions {
     // on every frame with `coarse`, else on a frame whose noise as relMSE weighs it
     // (NforRelativeNoise of the colour's own estimate) is at least coarseGate (0: never).
     bool coarse = false;
-    float coarseRelative = 0.1f, coarseNoise = 0.3f, coarseGate = 0.02f;
+    float coarseRelative = 0.3f, coarseNoise = 0.5f, coarseGate = 0.02f;
     // Beside a variance layer read as the noise, where the firefly clamp reads the frame's
     // own estimate (not the layer: clampLayer, clampLoss), the passes of a frame without a
     // layer run too: the specks' clamp, the clamp's light restored, the weak emitters' mean
