@@ -1168,6 +1168,11 @@ void TakeNforWhereFlat(const AutoFrontEnd::Options &o, Inputs &inputs, const Ima
         r.pixels, s.agreement, r.light, r.taken ? "nfor's output taken" : "left", s.keep));
 }
 
+// The frame's alpha layer, or null where it has none (the last passes leave alpha 0 alone).
+const Image *AlphaOrNull(Inputs &inputs) {
+    return inputs.Has("alpha") ? &inputs.Get("alpha") : nullptr;
+}
+
 // nfor's lights' spread at --auto-light-share of its shares on `image`, one plan line.
 void SpreadLights(const AutoFrontEnd::Options &o, Inputs &inputs, Image *image,
                   std::vector<std::string> *plan) {
@@ -1175,8 +1180,7 @@ void SpreadLights(const AutoFrontEnd::Options &o, Inputs &inputs, Image *image,
     NforLightSettings s;
     s.weakShare *= o.lightShare;
     s.strongShare *= o.lightShare;
-    const Image *alpha = inputs.Has("alpha") ? &inputs.Get("alpha") : nullptr;
-    const size_t lights = NforSpreadLights(inputs.Get("albedo"), alpha, s, image);
+    const size_t lights = NforSpreadLights(inputs.Get("albedo"), AlphaOrNull(inputs), s, image);
     if (lights == 0) return;
     plan->push_back(fmt::format(
         "auto: lights: {} emitter pixels (albedo above {:g}) gave {:g} (albedo below {:g}) or "
@@ -1195,8 +1199,8 @@ void SmoothGlintBands(const AutoFrontEnd::Options &o, Inputs &inputs, Image *ima
     s.radius = o.glintBandRadius;
     s.glintAlbedo = kNforGlintAlbedo;
     s.reach = kNforGlintReach;
-    const Image *alpha = inputs.Has("alpha") ? &inputs.Get("alpha") : nullptr;
-    const size_t moved = NforSmoothGlintBands(inputs.Get("albedo"), alpha, s, image);
+    const size_t moved =
+        NforSmoothGlintBands(inputs.Get("albedo"), AlphaOrNull(inputs), s, image);
     if (moved == 0) return;
     plan->push_back(fmt::format(
         "auto: glint bands: {} pixels within {} of a glint (an albedo channel above {:g}) "
@@ -1214,8 +1218,8 @@ void FoldRimHits(const AutoFrontEnd::Options &o, Inputs &inputs, const Image &co
     NforRimSettings s;
     s.coreRatio = NforRimRatio(spp, o.rimHits);
     if (s.coreRatio == 0) return;
-    const Image *alpha = inputs.Has("alpha") ? &inputs.Get("alpha") : nullptr;
-    const size_t folded = NforFoldRimHits(color, inputs.Get("albedo"), alpha, s, image);
+    const size_t folded =
+        NforFoldRimHits(color, inputs.Get("albedo"), AlphaOrNull(inputs), s, image);
     if (folded == 0) return;
     plan->push_back(fmt::format(
         "auto: rim hits: {} emitter pixels of albedo at most 1/{:g} of an emitter's within {} "

@@ -19,6 +19,11 @@ namespace {
 
 class AutoLights : public GpuTest {};
 
+// The frame's alpha layer, or null where it has none (as auto's last passes read it).
+const Image *AlphaOf(const Frame &frame) {
+    return frame.layers.count("alpha") ? &frame.layers.at("alpha") : nullptr;
+}
+
 // The light moves, none is made or lost: each colour channel's sum over the frame kept.
 void ExpectLightKept(const Image &before, const Image &after) {
     const size_t pixels = before.PixelCount();
@@ -68,8 +73,7 @@ TEST_F(AutoLights, EmittersGiveTheirRimsHalfOfNforsShares) {
     half.weakShare *= 0.5f;
     half.strongShare *= 0.5f;
     Image expected = unspread;
-    const Image *alpha = frame.layers.count("alpha") ? &frame.layers.at("alpha") : nullptr;
-    ASSERT_EQ(NforSpreadLights(albedo, alpha, half, &expected), 7u);
+    ASSERT_EQ(NforSpreadLights(albedo, AlphaOf(frame), half, &expected), 7u);
     EXPECT_EQ(spread.image.data, expected.data);
 
     // A rim pixel took the light's share of each emitter beside it; the light kept the rest.
@@ -108,8 +112,7 @@ TEST_F(AutoLights, ARimHitComesDownLast) {
     NforRimSettings s;
     s.coreRatio = NforRimRatio(16, kNforRimHits);
     Image expected = unfolded;
-    const Image *alpha = frame.layers.count("alpha") ? &frame.layers.at("alpha") : nullptr;
-    ASSERT_EQ(NforFoldRimHits(color, albedo, alpha, s, &expected), 1u);
+    ASSERT_EQ(NforFoldRimHits(color, albedo, AlphaOf(frame), s, &expected), 1u);
     EXPECT_EQ(folded.image.data, expected.data);
     EXPECT_LT(folded.image.At(0, 11, 17), 0.5f * unfolded.At(0, 11, 17));
     ExpectLightKept(unfolded, folded.image);

@@ -1047,6 +1047,20 @@ TEST_F(GpuTest, TiledRunNforClampLightAcrossTheSeamIsBitIdentical) {
     ASSERT_LE(tile + needs.reach, soft);
 }
 
+// nfor (radius 3, no pilot pass, no coarse pass) on a plain seam frame whole and in two
+// tiles: the pass whose plan line holds `ran` ran on the whole frame, and the tiles give the
+// whole frame's bits.
+void ExpectPlainPassTiledAsWhole(Device &device, const Frame &frame, int tile,
+                                 const std::string &ran, const std::string &what) {
+    Params params = {
+        {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"coarse-gate", 0.f}};
+    auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
+    bool found = false;
+    for (const std::string &line : whole.plan) found |= line.find(ran) != std::string::npos;
+    EXPECT_TRUE(found) << what;
+    ExpectSameBits(whole.image, tiled.image, what);
+}
+
 // A plain 400x32 frame for a two-tile seam at 200: colour level(y, x) x (1 + 5% seeded
 // Gaussian noise, seeded by `path`), a grey albedo of 0.5.
 Frame PlainSeamFrame(const std::string &path, const std::function<double(int, int)> &level) {
@@ -1076,14 +1090,8 @@ TEST_F(GpuTest, TiledRunNforRareLightAcrossTheSeamIsBitIdentical) {
     Image &color = frame.layers.at("color");
     for (auto [y, x] : {std::pair{10, 190}, {14, 205}, {20, 196}, {22, 201}, {8, 60}})
         for (int c = 0; c < 3; ++c) color.At(c, y, x) = 4.f;
-    Params params = {
-        {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"coarse-gate", 0.f}};
-    auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
-    bool ran = false;
-    for (const std::string &line : whole.plan)
-        ran |= line.find("rare light: 4 pixels") != std::string::npos;
-    EXPECT_TRUE(ran);
-    ExpectSameBits(whole.image, tiled.image, "nfor tiled, the rare light");
+    ExpectPlainPassTiledAsWhole(device, frame, tile, "rare light: 4 pixels",
+                                "nfor tiled, the rare light");
 }
 
 // The glint bands' pass across a tile seam: a broken band beside a glint on the seam comes out
@@ -1095,14 +1103,8 @@ TEST_F(GpuTest, TiledRunNforGlintBandsAcrossTheSeamIsBitIdentical) {
         return y == 16 ? (x % 2 ? 1.0 : 0.6) : 0.05;
     });
     for (int c = 0; c < 3; ++c) frame.layers.at("albedo").At(c, 6, 208) = 20.f;
-    Params params = {
-        {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"coarse-gate", 0.f}};
-    auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
-    bool ran = false;
-    for (const std::string &line : whole.plan)
-        ran |= line.find("glint bands:") != std::string::npos;
-    EXPECT_TRUE(ran);
-    ExpectSameBits(whole.image, tiled.image, "nfor tiled, the glint bands");
+    ExpectPlainPassTiledAsWhole(device, frame, tile,
+                                "glint bands:", "nfor tiled, the glint bands");
 }
 
 // The rim hits across a tile seam: a light whose core lies left of the seam and whose rim
@@ -1119,14 +1121,7 @@ TEST_F(GpuTest, TiledRunNforRimHitsAcrossTheSeamIsBitIdentical) {
             for (int c = 0; c < 3; ++c) color.At(c, y, x) = albedo.At(c, y, x) = 320.f;
     for (auto [y, x] : {std::pair{13, 199}, {15, 200}, {17, 198}, {16, 201}})
         for (int c = 0; c < 3; ++c) color.At(c, y, x) = albedo.At(c, y, x) = 20.f;
-    Params params = {
-        {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"coarse-gate", 0.f}};
-    auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
-    bool ran = false;
-    for (const std::string &line : whole.plan)
-        ran |= line.find("rim hits:") != std::string::npos;
-    EXPECT_TRUE(ran);
-    ExpectSameBits(whole.image, tiled.image, "nfor tiled, the rim hits");
+    ExpectPlainPassTiledAsWhole(device, frame, tile, "rim hits:", "nfor tiled, the rim hits");
 }
 
 // nfor's halo holds the clamp's light's reach only where the pass runs: on a plain frame
