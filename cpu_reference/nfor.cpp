@@ -1064,6 +1064,15 @@ Image NforPasses(const NforInputs &in, const NforParams &p, const Image &clamped
 Image NforStraightRun(const NforInputs &in, const NforParams &p,
                       std::vector<std::pair<std::string, Image>> *stages, const Image *alpha,
                       bool *plainOut, Image *clampedOut) {
+    // A frame the coarse pass runs on is fitted over the noisy radius's windows.
+    if (p.noisyRadius > p.radius && NforCoarseGateOpen(*in.color, in.albedo, p)) {
+        NforParams noisy = p;
+        noisy.radius = p.noisyRadius;
+        noisy.gatherRadius = p.noisyGatherRadius;
+        noisy.noisyRadius = 0;
+        if (noisy.pilotWideRadius <= noisy.radius) noisy.pilotWideRadius = 0;
+        return NforStraightRun(in, noisy, stages, alpha, plainOut, clampedOut);
+    }
     auto keep = [&](const std::string &name, const Image &image) {
         if (stages) stages->emplace_back(name, image);
     };

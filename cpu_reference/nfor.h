@@ -243,6 +243,9 @@ struct NforParams {
     // estimate is at least coarseGate (> 0).
     bool coarse = false;
     double coarseRelative = 0.3, coarseNoise = 0.5, coarseGate = 0.02;
+    // Where the coarse pass runs and noisyRadius exceeds radius: the whole run with radius
+    // noisyRadius, gatherRadius noisyGatherRadius, pilotWideRadius 0 where it is no larger.
+    int noisyRadius = 0, noisyGatherRadius = 0;
 };
 
 // The frame's layers; color and features are required, variance optional (estimated).

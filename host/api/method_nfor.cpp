@@ -388,6 +388,11 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "0.01), partly covered pixels divided by their alpha) is at least "
                           "this; 0: never (without --nfor-coarse)",
                           &O::coarseGate, 0, 1e3)),
+        nested(IntParam("noisy-radius",
+                        "where the coarse pass runs (a noisy frame), the fits' window "
+                        "half-size (the second pass's wide windows no wider left out); at "
+                        "most --radius: --radius on every frame",
+                        &O::noisyRadius, 0, 10)),
         nested(FloatParam("coarse-relative",
                           "the coarse pass's difference allowed, relative to the output",
                           &O::coarseRelative, 0, 1e3)),
@@ -498,10 +503,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         TileNeeds needs;
         // A second pass reads the first's output as far as one pass reaches, and its own
         // patches around it.
-        int passReach = 3 * o.radius;
-        int pilotReach = !o.pilotBandwidths.empty()
-                             ? 3 * std::max(o.radius, o.pilotWideRadius) + o.patchRadius
-                             : 0;
+        const int passReach = 3 * o.radius, pilotReach = PassReach(o) - passReach;
         // The specks' bound reads the fits' output of the 8 neighbours.
         const int speckReach = o.meanRadius > 0 && o.speckRelative >= 0 ? 1 : 0;
         needs.reach = passReach + pilotReach + std::max(colourReach, featureReach) +
@@ -519,7 +521,10 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
             o.sureRadius, speckReach, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0,
             keptReach, lightReach);
-        int offsets = ref::NforOffsetCount(std::max(o.radius, o.pilotWideRadius)),
+        // The distances at the largest windows a run may take (a noisy frame's).
+        const NforOptions noisy = NforNoisyOptions(o);
+        int offsets =
+                ref::NforOffsetCount(std::max({o.radius, o.pilotWideRadius, noisy.radius})),
             features = 10, candidates = 4;
         // The largest one-binding buffer: the distances, or at small radii the coefficients,
         // the candidates, the packed inputs or the illumination.
@@ -557,6 +562,13 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         const bool measured = o.coarse || !whole;
         if ((o.coarse || o.coarseGate > 0) &&
             (whole || NforCoarseRuns(context, InputsOf(inputs), o))) {
+            // A frame the coarse pass runs on takes the noisy radius's windows.
+            if (noisy.radius != o.radius) {
+                needs.reach += PassReach(noisy) - PassReach(o);
+                needs.reachText += fmt::format("; {} more for a noisy frame's {}x{} windows",
+                                               PassReach(noisy) - PassReach(o),
+                                               2 * noisy.radius + 1, 2 * noisy.radius + 1);
+            }
             // The half-resolution pass reaches twice as far in this frame's pixels, its
             // 2x2 blocks on the frame's grid; the correction's windows 6 pixels more.
             needs.reach = 2 * needs.reach + 2 + 6;
@@ -626,6 +638,15 @@ class Nfor : public FrontEndOf<NforParamsApi> {
     }
 
   private:
+    // How far the passes read: a pixel averages the fits of windows up to the radius away,
+    // each fit reads as far and the distances there as far again; a second pass reads the
+    // first's output as far as its windows and its patches around it.
+    static int PassReach(const NforOptions &o) {
+        return 3 * o.radius + (!o.pilotBandwidths.empty()
+                                   ? 3 * std::max(o.radius, o.pilotWideRadius) + o.patchRadius
+                                   : 0);
+    }
+
     // The options for this frame: the given ones, with the plain frame's wide windows
     // where the frame has no variance layer and the second pass has one bandwidth and no
     // wide windows of its own (a frame with statistics gains little from them for their

@@ -43,6 +43,10 @@ ref::NforParams NforReferenceParams(const NforOptions &o,
     p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
     p.pilotAlpha = o.pilotAlpha;
     p.pilotWideRadius = o.pilotWideRadius;
+    p.noisyRadius = o.noisyRadius;
+    const NforOptions noisy = NforNoisyOptions(o);
+    p.noisyGatherRadius =
+        noisy.gatherRadius < 0 ? noisy.radius : std::min(noisy.gatherRadius, noisy.radius);
     p.wideAgreement = o.wideAgreement;
     p.meanRadius = o.meanRadius;
     p.clampLightRadius = o.clampLightRadius;

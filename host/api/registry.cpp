@@ -16,9 +16,9 @@ std::unique_ptr<FrontEnd> RhfFrontEnd();
 namespace {
 
 // nfor's probe: the widest of the run's first-pass bandwidths alone, over windows 2 pixels
-// narrower (the pilot's pass as the run's). The run picks among its bandwidths per pixel by
-// SURE, mostly the widest; on the accumulated frames this probe weighed the candidates as
-// well as the run's own (docs/methods/auto.md) for about half its work.
+// narrower, a noisy frame's too (the pilot's pass as the run's). The run picks among its
+// bandwidths per pixel by SURE, mostly the widest; on the accumulated frames this probe weighed
+// the candidates as well as the run's own (docs/methods/auto.md) for about half its work.
 void NforCheaperProbe(FrontEnd &nfor) {
     const std::string list = std::get<std::string>(nfor.Get("bandwidths"));
     std::string widest;
@@ -36,6 +36,7 @@ void NforCheaperProbe(FrontEnd &nfor) {
     }
     if (!widest.empty()) nfor.Set("bandwidths", widest);
     nfor.Set("radius", std::max(std::get<int>(nfor.Get("radius")) - 2, 1));
+    nfor.Set("noisy-radius", std::max(std::get<int>(nfor.Get("noisy-radius")) - 2, 0));
 }
 
 // The pivot filter reads its guides from the normals and the object and part ids.

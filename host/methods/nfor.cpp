@@ -136,6 +136,10 @@ void CheckOptions(const NforOptions &o) {
         throw Error(fmt::format("nfor: radius {} (1..{}), patch radius {} (0..{})", o.radius,
                                 NFOR_MAX_RADIUS, o.patchRadius, NFOR_MAX_PATCH),
                     ErrorKind::InvalidArgument);
+    if (o.noisyRadius < 0 || o.noisyRadius > NFOR_MAX_RADIUS)
+        throw Error(
+            fmt::format("nfor: noisy radius {} (0..{})", o.noisyRadius, NFOR_MAX_RADIUS),
+            ErrorKind::InvalidArgument);
     if (o.bandwidths.empty() || o.bandwidths.size() > NFOR_MAX_CANDIDATES)
         throw Error(fmt::format("nfor: {} bandwidths; 1 to {} allowed", o.bandwidths.size(),
                                 NFOR_MAX_CANDIDATES),
@@ -354,6 +358,16 @@ struct NforGpu {
                                 "nfor.wideScratch");
         }
     }
+    // The distances over a noisy frame's windows (NforNoisyOptions `o`): of its radius, the
+    // second pass's wide ones dropped where `o` leaves them out.
+    void Widen(vk::Context &context, const NforOptions &o) {
+        const int w = color.width, h = color.height, offsets = NforOffsetCount(o.radius);
+        distance = vk::GpuImage(context, w, h, offsets, "nfor.distance");
+        scratch = vk::GpuImage(context, w, h, offsets, "nfor.scratch");
+        if (pilotDistance) pilotDistance.emplace(context, w, h, offsets, "nfor.pilotDistance");
+        if (o.pilotWideRadius == 0) wideDistance.reset(), wideScratch.reset();
+    }
+
     vk::GpuImage color, variance, clampVariance, clamped, mask, features, filtered, distance,
         scratch, illumination, packed, beta, hat, candidates;
     std::optional<vk::GpuImage> albedo, trust, pilot, pilotVariance, pilotDistance,
@@ -634,21 +648,27 @@ void RecordGlintNoise(StagedRun &run, NforGpu &gpu, const NforOptions &o) {
     run.StageAtEnd("glint.variance", gpu.variance);
 }
 
-// Noise, emitters and fireflies, features, the patch distances. `alpha`: the coverage of a
-// frame whose partly covered pixels were divided by it (nullptr: none).
+// The firefly clamp, against the clamp's own estimate of the colour's noise where it reads
+// one (OwnClampEstimate), and its stages.
+void RecordClampStages(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o,
+                       NforResult &result) {
+    const bool ownClamp = OwnClampEstimate(in, o);
+    RecordClamp(run, gpu, in, o, ownClamp, result);
+    run.StageAtEnd("mask", gpu.mask);
+    run.StageAtEnd("color", gpu.clamped);
+    if (ownClamp) run.StageAtEnd("clamp.variance", gpu.clampVariance);
+}
+
+// After the clamp (RecordClampStages): the weights' noise estimate, the features, the trust,
+// the glint floor and the patch distances. `alpha`: the coverage of a frame whose partly
+// covered pixels were divided by it (nullptr: none).
 void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o,
                    RunMemo *memo, const std::string &featuresId, const Image *alpha,
                    NforResult &result) {
     vk::Context &context = run.Context();
     const vk::GpuImage *albedo = gpu.albedo ? &*gpu.albedo : nullptr;
-    bool again = !in.variance && !o.noEdgeNoise;
-    // The clamp's own estimate; with edge noise the weights' is estimated again below.
-    bool ownClamp = OwnClampEstimate(in, o);
-    RecordClamp(run, gpu, in, o, ownClamp, result);
-    run.StageAtEnd("mask", gpu.mask);
-    run.StageAtEnd("color", gpu.clamped);
-    if (ownClamp) run.StageAtEnd("clamp.variance", gpu.clampVariance);
-    if (again)
+    // With edge noise the weights' estimate is made again, from the clamped colour.
+    if (!in.variance && !o.noEdgeNoise)
         RecordNforNoise(context, run.Recorder(), gpu.clamped, albedo, o.noiseRadius,
                         o.noiseCalibration, gpu.variance, true, !o.noSparseNoise);
     if (!in.variance && alpha) {
@@ -1296,19 +1316,55 @@ bool NforCoarseRuns(vk::Context &context, const NforInputs &in, const NforOption
     return o.coarse || (o.coarseGate > 0 && measured >= o.coarseGate);
 }
 
-NforResult NforDenoise(vk::Context &context, const NforInputs &given, const NforOptions &o,
-                       RunMemo *memo) {
-    CheckInputs(context, given, o);
-    StraightInputs straight(given, o);
+NforOptions NforNoisyOptions(const NforOptions &options) {
+    NforOptions o = options;
+    o.radius = std::max(o.radius, o.noisyRadius);
+    if (o.pilotWideRadius <= o.radius) o.pilotWideRadius = 0;
+    return o;
+}
+
+namespace {
+
+// The options a run takes after its clamp: where the coarse pass runs, the noisy radius's
+// (NforNoisyOptions), its distances widened and the plan told; elsewhere `options`.
+NforOptions NoisyRun(StagedRun &run, NforGpu &gpu, const NforInputs &given,
+                     const NforOptions &options, const CoarseGate &gate) {
+    if (!gate.runs || options.noisyRadius <= options.radius) return options;
+    const NforOptions o = NforNoisyOptions(options);
+    CheckInputs(run.Context(), given, o);
+    gpu.Widen(run.Context(), o);
+    run.Plan(fmt::format(
+        "windows of {0}x{0} (--noisy-radius {1}, where the radius gives {2}x{2}{3}): the "
+        "coarse pass runs on this frame, which is noisy",
+        2 * o.radius + 1, o.noisyRadius, 2 * options.radius + 1,
+        o.pilotWideRadius != options.pilotWideRadius
+            ? fmt::format("; the second pass's {0}x{0} windows left out",
+                          2 * options.pilotWideRadius + 1)
+            : std::string()));
+    return o;
+}
+
+}  // namespace
+
+NforResult NforDenoise(vk::Context &context, const NforInputs &given,
+                       const NforOptions &options, RunMemo *memo) {
+    CheckInputs(context, given, options);
+    StraightInputs straight(given, options);
     const NforInputs &in = straight.inputs;
     std::vector<float> weights;
     std::vector<std::string> names;
-    Image featureImage = NforFeatures(in, o, &weights, &names);
+    Image featureImage = NforFeatures(in, options, &weights, &names);
     NforResult result;
-    StagedRun run(context, o.keepStages);
-    PlanNoise(run, in, o);
-    PlanFeatures(run, names, o);
-    NforGpu gpu(context, in, featureImage, o);
+    StagedRun run(context, options.keepStages);
+    PlanNoise(run, in, options);
+    PlanFeatures(run, names, options);
+    NforGpu gpu(context, in, featureImage, options);
+    RecordClampStages(run, gpu, in, options, result);
+    // The coarse pass's gate reads the clamp's estimate; a noisy frame it lets through is
+    // fitted over the noisy radius's windows from here on.
+    run.Submit();
+    const CoarseGate gate = DecideCoarse(context, gpu, in, options);
+    const NforOptions o = NoisyRun(run, gpu, given, options, gate);
     RecordPrepare(run, gpu, in, o, memo, memo ? MemoImageId(featureImage) : std::string(),
                   straight.partlyCovered > 0 ? given.alpha : nullptr, result);
     int w = in.color->width, h = in.color->height, ch = in.color->channels;
@@ -1324,7 +1380,6 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     for (float m : mask.data) result.emitters += m == 0;
     for (size_t i = 0; i < clamped.Size(); ++i)
         result.clamped += clamped.data[i] != in.color->data[i];
-    const CoarseGate gate = DecideCoarse(context, gpu, in, o);
     if (o.meanRadius > 0) {
         std::vector<bool> meansLeft;
         RestoreMeans(run, in, o, mask, clamped, result, &meansLeft);

@@ -207,6 +207,11 @@ struct NforOptions {
     // (NforRelativeNoise of the colour's own estimate) is at least coarseGate (0: never).
     bool coarse = false;
     float coarseRelative = 0.3f, coarseNoise = 0.5f, coarseGate = 0.02f;
+    // Where the coarse pass runs (a noisy frame, as its gate reads it, or every frame with
+    // `coarse`), the fits' windows take this half-size instead of radius, and the second
+    // pass's wide windows no wider than it are left out (NforNoisyOptions); at most radius:
+    // radius on every frame.
+    int noisyRadius = 10;
     // Beside a variance layer read as the noise, where the firefly clamp reads the frame's
     // own estimate (not the layer: clampLayer, clampLoss), the passes of a frame without a
     // layer run too: the specks' clamp, the clamp's light restored, the weak emitters' mean
@@ -339,6 +344,10 @@ double NforCoarseLevel(vk::Context &context, const NforInputs &in, const NforOpt
 // NforCoarseLevel's).
 bool NforCoarseRuns(vk::Context &context, const NforInputs &in, const NforOptions &options,
                     double *level = nullptr, int stripPixels = 1 << 22);
+
+// `options` as a run on a frame the coarse pass runs on takes them: the windows' half-size
+// noisyRadius, and the second pass's wide windows left out where they are no wider.
+NforOptions NforNoisyOptions(const NforOptions &options);
 
 // Whether the second pass's colour distance is normalised by 2 min(v_p, v_q).
 bool NforPilotMinVariance(const NforOptions &o);

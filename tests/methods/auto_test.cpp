@@ -1487,9 +1487,11 @@ TEST_F(AutoMethod, FrameWithHalvesRunsNforAmongTheCandidates) {
     EXPECT_NE(std::find(result.candidates.begin(), result.candidates.end(), "nfor"),
               result.candidates.end());
     // nfor's probe on half0 fits the widest of the run's first-pass bandwidths alone over
-    // narrower windows: the run's two bandwidths share one regression dispatch, then the
-    // pilot's pass; the probe's one bandwidth has one, then the pilot's.
-    EXPECT_TRUE(PlanHas(result, "nfor: its probe with --bandwidths 1, --radius 5 (a cheaper"))
+    // narrower windows (a noisy frame's too): the run's two bandwidths share one regression
+    // dispatch, then the pilot's pass; the probe's one bandwidth has one, then the pilot's.
+    EXPECT_TRUE(PlanHas(result,
+                        "nfor: its probe with --bandwidths 1, --radius 5, --noisy-radius 8 (a "
+                        "cheaper"))
         << plan;
     // Its estimate stands for the variance layer, and the passes of a plain frame run.
     EXPECT_TRUE(PlanHas(result, "nfor: noise of the colour estimated from the frame")) << plan;

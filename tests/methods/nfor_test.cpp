@@ -1807,6 +1807,7 @@ NforOptions SmallWindowOptions() {
     o.noiseRadius = 2;
     o.prefilterRadius = 3;
     o.meanRadius = 0;
+    o.noisyRadius = 0;
     return o;
 }
 
@@ -3067,6 +3068,48 @@ TEST_F(NforMethod, FewSamplesLeaveNoBlackHoles) {
     EXPECT_LT(error, 0.5 * medianError);
 }
 
+// A frame the coarse pass's gate finds noisy is fitted over --noisy-radius's windows: its
+// stages match the reference's (which decides on its own estimate), the output is a run at
+// that radius bit for bit and the plan says so; a clean frame keeps the radius. The second
+// pass's wide windows, no wider than the noisy radius, are left out there.
+TEST_F(NforMethod, NoisyFramesTakeTheNoisyRadius) {
+    NforOptions o = SmallWindowOptions();
+    o.noisyRadius = 5;
+    for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}})
+        ExpectStagesMatch(Ctx(), w, h, o);
+    NforOptions atNoisy = o, atRadius = o;
+    atNoisy.radius = 5;
+    atNoisy.noisyRadius = atRadius.noisyRadius = 0;
+    auto plansNoisy = [](const NforResult &r) {
+        for (const std::string &line : r.plan)
+            if (line.find("windows of 11x11 (--noisy-radius 5") != std::string::npos)
+                return true;
+        return false;
+    };
+    for (double noise : {0.6, 0.02}) {
+        SCOPED_TRACE(fmt::format("noise {}", noise));
+        Frame f = MakeFrame(29, 23, noise, fmt::format("noisy radius {}", noise));
+        NforResult run = NforDenoise(Ctx(), InputsOf(f), o);
+        const bool noisy = noise > 0.1;
+        ASSERT_EQ(run.coarseRan, noisy) << "level " << run.coarseLevel;
+        EXPECT_EQ(plansNoisy(run), noisy);
+        EXPECT_TRUE(BitIdentical(
+            run.image, NforDenoise(Ctx(), InputsOf(f), noisy ? atNoisy : atRadius).image));
+        EXPECT_FALSE(BitIdentical(
+            run.image, NforDenoise(Ctx(), InputsOf(f), noisy ? atRadius : atNoisy).image));
+    }
+    Frame f = MakeFrame(29, 23, 0.6, "noisy radius wide");
+    NforOptions wide = o;
+    wide.pilotWideRadius = 4;
+    NforResult run = NforDenoise(Ctx(), InputsOf(f), wide);
+    EXPECT_TRUE(BitIdentical(run.image, NforDenoise(Ctx(), InputsOf(f), atNoisy).image));
+    bool named = false;
+    for (const std::string &line : run.plan)
+        named =
+            named || line.find("the second pass's 9x9 windows left out") != std::string::npos;
+    EXPECT_TRUE(named);
+}
+
 // The coarse pass by default: a noisy frame (its own noise estimate relative to relMSE's
 // denominator at least --coarse-gate) takes the pass as --nfor-coarse gives it, a clean one
 // is left as without it, bit for bit; the level the gate read is the reference's estimate's
@@ -3815,6 +3858,7 @@ TEST_F(NforMethod, PlainFramesTakeTheWideSecondPass) {
     auto run = [&](const mcd::Frame &input, int plainWide, int radius, int pilotWide) {
         Method method("nfor");
         method.Set("radius", radius);
+        method.Set("noisy-radius", 0);
         method.Set("plain-wide-radius", plainWide);
         if (pilotWide > 0) {
             method.Set("pilot-wide-radius", pilotWide);

@@ -623,6 +623,7 @@ TEST_F(GpuTest, TiledRunNforClampDecidesOnceForTheFrame) {
     for (bool coarse : {false, true}) {
         SCOPED_TRACE(coarse ? "coarse pass" : "no coarse pass");
         Params params = {{"radius", 3},
+                         {"noisy-radius", 0},
                          {"pilot-bandwidths", std::string("none")},
                          {"nfor-mean-radius", 0},
                          {"nfor-coarse", coarse}};
@@ -732,10 +733,17 @@ bool CoarsePassRan(const Result &result, bool *wholeFrame = nullptr) {
     return false;
 }
 
+// Whether nfor's plan says the run took the noisy radius's windows.
+bool NoisyWindows(const Result &result) {
+    for (const std::string &line : result.plan)
+        if (line.find("(--noisy-radius") != std::string::npos) return true;
+    return false;
+}
+
 // nfor's coarse pass runs where the frame's own noise, relative to relMSE's denominator in
 // median, reaches --coarse-gate: its left 150 columns are noisy, the rest clean, so the
-// frame takes the pass and the right window alone would not. Every tile reads the frame's
-// level, and the tiled result is the untiled one bit for bit.
+// frame takes the pass and the noisy radius's windows and the right window alone would not.
+// Every tile reads the frame's level, and the tiled result is the untiled one bit for bit.
 TEST_F(GpuTest, TiledRunNforCoarseGateDecidesOnceForTheFrame) {
     Device device = api::BorrowDevice(Ctx());
     const int width = 256, height = 40, tile = 128, noisy = 150;
@@ -753,11 +761,14 @@ TEST_F(GpuTest, TiledRunNforCoarseGateDecidesOnceForTheFrame) {
             }
     frame.layers["color"] = std::move(color);
     frame.layers["albedo"] = std::move(albedo);
-    Params params = {
-        {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"nfor-mean-radius", 0}};
+    Params params = {{"radius", 3},
+                     {"noisy-radius", 4},
+                     {"pilot-bandwidths", std::string("none")},
+                     {"nfor-mean-radius", 0}};
     Result whole = RunWith(device, "nfor", params, frame, 0);
     Result tiled = RunWith(device, "nfor", params, frame, tile);
     EXPECT_TRUE(CoarsePassRan(whole));
+    EXPECT_TRUE(NoisyWindows(whole));
     ExpectSameBits(whole.image, tiled.image, "nfor tiled, coarse gate");
 
     std::unique_ptr<api::FrontEnd> nfor = api::FindMethod("nfor")->make();
@@ -767,10 +778,14 @@ TEST_F(GpuTest, TiledRunNforCoarseGateDecidesOnceForTheFrame) {
     ASSERT_GT(tile - needs.reach, 2 * noisy - width) << "the right window is mostly clean";
     std::unique_ptr<api::FrontEnd> forTiles = nfor->ForTiles(Ctx(), inputs);
     api::Inputs window(inputs, tile - needs.reach, 0, width, height);
-    EXPECT_FALSE(CoarsePassRan(nfor->Run(Ctx(), window, RunOptions{})));
+    Result alone = nfor->Run(Ctx(), window, RunOptions{});
+    EXPECT_FALSE(CoarsePassRan(alone));
+    EXPECT_FALSE(NoisyWindows(alone));
     bool wholeFrame = false;
-    EXPECT_TRUE(CoarsePassRan(forTiles->Run(Ctx(), window, RunOptions{}), &wholeFrame));
+    Result inTiles = forTiles->Run(Ctx(), window, RunOptions{});
+    EXPECT_TRUE(CoarsePassRan(inTiles, &wholeFrame));
     EXPECT_TRUE(wholeFrame) << "the plan says the level is the frame's";
+    EXPECT_TRUE(NoisyWindows(inTiles));
 }
 
 // nfor on a dark plain frame with a light (albedo 40) on a tile seam under a highlight line
@@ -907,7 +922,7 @@ TEST_F(GpuTest, TiledRunNforNoisyAlbedoAcrossTheSeamIsBitIdentical) {
     frame.layers.erase("variance");
     NoisyAlbedo(&frame.layers.at("albedo"), "tiled noisy albedo", SeamBands(tile));
     // The plain frame's wide second pass runs too, over windows that fit the tiles' halo.
-    Params params = {{"radius", 3}, {"plain-wide-radius", 4}};
+    Params params = {{"radius", 3}, {"noisy-radius", 0}, {"plain-wide-radius", 4}};
     Result whole = RunWith(device, "nfor", params, frame, 0);
     Result tiled = RunWith(device, "nfor", params, frame, tile);
     ASSERT_FALSE(tiled.plan.empty());
