@@ -310,10 +310,6 @@ struct NforGpu {
           mask(context, color.width, color.height, 1, "nfor.mask"),
           features(context, color.width, color.height, featureImage.channels, "nfor.features"),
           filtered(context, color.width, color.height, featureImage.channels, "nfor.filtered"),
-          distance(context, color.width, color.height, NforOffsetCount(o.radius),
-                   "nfor.distance"),
-          scratch(context, color.width, color.height, NforOffsetCount(o.radius),
-                  "nfor.scratch"),
           illumination(context, color.width, color.height, kNforIlluminationFloats,
                        "nfor.illumination"),
           packed(context, color.width, color.height, NforPackedFloats(featureImage.channels),
@@ -347,25 +343,21 @@ struct NforGpu {
             if (in.variance && o.pilotNoiseCap > 0)
                 pilotVariance.emplace(context, color.width, color.height, color.channels,
                                       "nfor.pilotVariance");
-            pilotDistance.emplace(context, color.width, color.height, NforOffsetCount(o.radius),
-                                  "nfor.pilotDistance");
-        }
-        if (o.pilotWideRadius > 0) {
-            int offsets = NforOffsetCount(o.pilotWideRadius);
-            wideDistance.emplace(context, color.width, color.height, offsets,
-                                 "nfor.wideDistance");
-            wideScratch.emplace(context, color.width, color.height, offsets,
-                                "nfor.wideScratch");
         }
     }
-    // The distances over a noisy frame's windows (NforNoisyOptions `o`): of its radius, the
-    // second pass's wide ones dropped where `o` leaves them out.
-    void Widen(vk::Context &context, const NforOptions &o) {
+    // The patch distances over the run's windows, made once the coarse gate has decided
+    // them (`o`: NforNoisyOptions on a noisy frame), so a run makes one set of them.
+    void MakeDistances(vk::Context &context, const NforOptions &o) {
         const int w = color.width, h = color.height, offsets = NforOffsetCount(o.radius);
         distance = vk::GpuImage(context, w, h, offsets, "nfor.distance");
         scratch = vk::GpuImage(context, w, h, offsets, "nfor.scratch");
-        if (pilotDistance) pilotDistance.emplace(context, w, h, offsets, "nfor.pilotDistance");
-        if (o.pilotWideRadius == 0) wideDistance.reset(), wideScratch.reset();
+        if (!o.pilotBandwidths.empty())
+            pilotDistance.emplace(context, w, h, offsets, "nfor.pilotDistance");
+        if (o.pilotWideRadius > 0) {
+            const int wide = NforOffsetCount(o.pilotWideRadius);
+            wideDistance.emplace(context, w, h, wide, "nfor.wideDistance");
+            wideScratch.emplace(context, w, h, wide, "nfor.wideScratch");
+        }
     }
 
     vk::GpuImage color, variance, clampVariance, clamped, mask, features, filtered, distance,
@@ -1326,13 +1318,12 @@ NforOptions NforNoisyOptions(const NforOptions &options) {
 namespace {
 
 // The options a run takes after its clamp: where the coarse pass runs, the noisy radius's
-// (NforNoisyOptions), its distances widened and the plan told; elsewhere `options`.
-NforOptions NoisyRun(StagedRun &run, NforGpu &gpu, const NforInputs &given,
-                     const NforOptions &options, const CoarseGate &gate) {
+// (NforNoisyOptions), the plan told; elsewhere `options`.
+NforOptions NoisyRun(StagedRun &run, const NforInputs &given, const NforOptions &options,
+                     const CoarseGate &gate) {
     if (!gate.runs || options.noisyRadius <= options.radius) return options;
     const NforOptions o = NforNoisyOptions(options);
     CheckInputs(run.Context(), given, o);
-    gpu.Widen(run.Context(), o);
     run.Plan(fmt::format(
         "windows of {0}x{0} (--noisy-radius {1}, where the radius gives {2}x{2}{3}): the "
         "coarse pass runs on this frame, which is noisy",
@@ -1364,7 +1355,8 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given,
     // fitted over the noisy radius's windows from here on.
     run.Submit();
     const CoarseGate gate = DecideCoarse(context, gpu, in, options);
-    const NforOptions o = NoisyRun(run, gpu, given, options, gate);
+    const NforOptions o = NoisyRun(run, given, options, gate);
+    gpu.MakeDistances(context, o);
     RecordPrepare(run, gpu, in, o, memo, memo ? MemoImageId(featureImage) : std::string(),
                   straight.partlyCovered > 0 ? given.alpha : nullptr, result);
     int w = in.color->width, h = in.color->height, ch = in.color->channels;
