@@ -1125,12 +1125,23 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
                            alpha, keep);
     if (p.meanRadius > 0) {
         keep("fit", out);
+        std::vector<char> exact;
         if (p.speckRelative >= 0 && plain) {
             NforClampSpecks(mask, p.speckRank, p.speckRelative, p.speckFloor, &out,
                             p.speckFlatShare, p.speckFlatRelative);
+            if (p.exactGround) exact = NforExactGround(color, clamped, mask);
+            for (int c = 0; c < out.channels; ++c)
+                for (int y = 0; y < out.height; ++y)
+                    for (int x = 0; x < out.width; ++x)
+                        if (exact.size() && exact[size_t(y) * out.width + x])
+                            out.At(c, y, x) = clamped.At(c, y, x);
             keep("specks", out);
         }
         std::vector<bool> left = LeftByTheFits(clamped, mask);
+        // A pixel on an exact ground keeps its input: no mean counts it.
+        for (size_t i = 0; i < exact.size(); ++i)
+            if (exact[i])
+                for (int c = 0; c < out.channels; ++c) left[c * exact.size() + i] = true;
         RestoreLocalMeans(clamped, p.meanRadius, &out, nullptr, -1, false, &left);
         RestoreClampLight(in, p, plain, clamped, mask, left, keep, &out);
     }

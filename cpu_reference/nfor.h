@@ -180,6 +180,9 @@ struct NforParams {
     // With meanRadius and no variance layer, before the restore: specks of the fits' output
     // clamped (NforClampSpecks, cpu_reference/nfor_specks.h); speckRelative < 0: off.
     double speckRelative = -1, speckFloor = 0.01;
+    // With the specks: pixels on an exact ground (NforExactGround) keep their clamped colour
+    // (their input) and count in no local mean.
+    bool exactGround = false;
     int speckRank = 2;
     double speckFlatShare = 0, speckFlatRelative = 0.1;  // NforOptions' speckFlat*
     // Pixels the fits left as they came in: the output's feature-weighted mean over this

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace mcd::ref {
@@ -46,6 +48,50 @@ void NforClampSpecks(const Image &mask, int rank, double relative, double floor,
             for (int c = 0; c < before.channels; ++c)
                 output->At(c, y, x) = float(before.At(c, y, x) * (bound / l));
         }
+}
+
+namespace {
+
+// The bits of channel c of pixel (x, y): equal bits, equal values (NaN and -0 alike).
+uint32_t Bits(const Image &image, int c, int y, int x) {
+    uint32_t bits;
+    float value = image.At(c, y, x);
+    std::memcpy(&bits, &value, sizeof bits);
+    return bits;
+}
+
+bool SameColour(const Image &a, int ya, int xa, const Image &b, int yb, int xb) {
+    for (int c = 0; c < a.channels; ++c)
+        if (Bits(a, c, ya, xa) != Bits(b, c, yb, xb)) return false;
+    return true;
+}
+
+}  // namespace
+
+std::vector<char> NforExactGround(const Image &input, const Image &clamped, const Image &mask) {
+    std::vector<char> flags(size_t(input.width) * input.height, 0);
+    for (int y = 0; y < input.height; ++y)
+        for (int x = 0; x < input.width; ++x) {
+            bool border = x == 0 || y == 0 || x == input.width - 1 || y == input.height - 1;
+            if (border || mask.At(0, y, x) != 1 || !SameColour(input, y, x, clamped, y, x))
+                continue;
+            int ground = 0;
+            bool lit = false;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    int u = x + dx, v = y + dy;
+                    if ((dx == 0 && dy == 0) || u < 0 || v < 0 || u >= input.width ||
+                        v >= input.height || mask.At(0, v, u) != 1)
+                        continue;
+                    // Every neighbour equal to the one above and to the left.
+                    if (!SameColour(input, v, u, input, y - 1, x - 1)) continue;
+                    ++ground;
+                    for (int c = 0; c < input.channels; ++c) lit = lit || input.At(c, v, u) > 0;
+                }
+            flags[size_t(y) * input.width + x] =
+                ground == 8 && lit && !SameColour(input, y, x, input, y - 1, x - 1);
+        }
+    return flags;
 }
 
 }  // namespace mcd::ref

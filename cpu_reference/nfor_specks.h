@@ -1,6 +1,8 @@
 // nfor's specks clamped (host/methods/nfor_specks.h), the CPU reference, in double.
 #pragma once
 
+#include <vector>
+
 #include "host/image.h"
 
 namespace mcd::ref {
@@ -13,5 +15,11 @@ namespace mcd::ref {
 // flatRelative takes relative's place.
 void NforClampSpecks(const Image &mask, int rank, double relative, double floor, Image *output,
                      double flatShare = 0, double flatRelative = 0.1);
+
+// Pixels on an exact ground: p with mask 1, all 8 neighbours inside the frame with mask 1,
+// every channel of `clamped` at p equal to `input`'s, the neighbours' input colours all equal
+// to each other in every channel (bit for bit) with a channel above 0, and p's input colour
+// not equal to theirs. One flag per pixel.
+std::vector<char> NforExactGround(const Image &input, const Image &clamped, const Image &mask);
 
 }  // namespace mcd::ref

@@ -146,29 +146,30 @@ double MeanLuminance(const Image &image) {
 }
 
 // auto's nfor alone on a frame without statistics: where its output's mean luminance is
-// over 2% off the input's (nfor's firefly clamp took the light of a heavy-tailed frame),
+// over 1% off the input's (nfor's firefly clamp took the light of a heavy-tailed frame),
 // scale it by one factor to the input's mean (--auto-plain-mean gain), or run the
-// combination instead, which restores the input's local means (combine). 2%: the bound auto
-// is held to (docs/methods/auto.md).
+// combination instead, which restores the input's local means (combine). 1%: half the bound
+// auto is held to (2%, docs/methods/auto.md), so that an output just inside the check's
+// step is not left a percent or two darker than the frame.
 void KeepTheMeanOfNforAlone(vk::Context &context, const api::FrontEnd &automatic,
                             const Frame &frame, bool refuseNonFinite, const RunOptions &options,
                             api::Inputs &inputs, const api::FrontEnd **method, Result *result,
                             std::vector<std::string> *plan) {
     double input = MeanLuminance(inputs.Get("color"));
     double ratio = input > 0 ? MeanLuminance(result->image) / input : 1;
-    if (std::fabs(ratio - 1) <= 0.02) return;
+    if (std::fabs(ratio - 1) <= 0.01) return;
     if (std::get<std::string>(automatic.Get("auto-plain-mean")) == "gain" && ratio > 0) {
         const float gain = float(1 / ratio);
         for (float &v : result->image.data) v *= gain;
         plan->push_back(fmt::format(
-            "auto: nfor's output had {:.3f} of the frame's mean luminance (over 2% off: its "
+            "auto: nfor's output had {:.3f} of the frame's mean luminance (over 1% off: its "
             "firefly clamp took the light of rare bright samples), so it was scaled by {:.4f} "
             "to the input's (--auto-plain-mean gain)",
             ratio, gain));
         return;
     }
     plan->push_back(fmt::format(
-        "auto: nfor's output had {:.3f} of the frame's mean luminance (over 2% off: its "
+        "auto: nfor's output had {:.3f} of the frame's mean luminance (over 1% off: its "
         "firefly clamp took the light of rare bright samples), so the candidates were "
         "combined instead (--auto-plain-mean combine)",
         ratio));

@@ -188,14 +188,14 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "on a frame without statistics (no variance layer, half-buffers, "
                     "histograms nor min/max/spp, as most renderers write), with or without "
                     "albedo and normals: nfor (run nfor alone, which beat the combination on "
-                    "such frames; where it moves the mean luminance by over 2%, see "
+                    "such frames; where it moves the mean luminance by over 1%, see "
                     "--auto-plain-mean) or combine (combine the candidates by SURE on the "
                     "frame's own noise estimate); --auto-noise other than auto or "
                     "--auto-combine mean combine too",
                     &O::plain, {"nfor", "combine"}),
         ChoiceParam("auto-plain-mean",
                     "with --auto-plain nfor, where nfor's output moved the frame's mean "
-                    "luminance by over 2% (its firefly clamp took the light of rare bright "
+                    "luminance by over 1% (its firefly clamp took the light of rare bright "
                     "samples): gain (scale its output by one factor to the input's mean) or "
                     "combine (combine the candidates instead, a second run)",
                     &O::plainMean, {"gain", "combine"}),
@@ -1596,7 +1596,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         // Where nfor alone could run, it ran and moved the mean (KeepTheMeanOfNforAlone).
         noise.notAlone = WhyNotNforAlone(inputs.Source());
         if (noise.notAlone.empty())
-            noise.notAlone = "nfor alone moved the frame's mean luminance by over 2%, above";
+            noise.notAlone = "nfor alone moved the frame's mean luminance by over 1%, above";
     }
     Candidates candidates =
         RunCandidatesSharing(context, inputs, methods, noise, options, start, &plan);

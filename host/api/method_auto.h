@@ -115,7 +115,7 @@ class AutoFrontEnd : public FrontEnd {
         // auto.md: nfor alone beat the combination on the real Cycles frames, with and
         // without albedo and normals).
         std::string plain = "nfor";
-        // Where nfor alone moved the frame's mean luminance by over 2% (its firefly clamp
+        // Where nfor alone moved the frame's mean luminance by over 1% (its firefly clamp
         // took the light of rare bright samples): its output scaled back to the input's
         // mean ("gain") or the candidates combined instead ("combine").
         std::string plainMean = "gain";

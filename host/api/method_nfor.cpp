@@ -358,6 +358,14 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
             "scaled down to that before the restore, which gives the pixels around it what of "
             "its light it holds for certain; negative: off",
             &O::speckRelative, -1, 1e3)),
+        nested(BoolParam("no-exact-ground",
+                         "with the local means restored, where the specks' clamp runs: fit a "
+                         "pixel whose 8 neighbours' input colours are the same bit for bit and "
+                         "lit (a ground every sample of which saw the same: a mirror's or a "
+                         "sky's constant) like any other; by default it keeps its input where "
+                         "the firefly clamp left it and it differs from them (a light under a "
+                         "pixel seen in a mirror), and its light stays out of the local means",
+                         &O::noExactGround)),
         nested(FloatParam("speck-floor", "the absolute part of --speck-relative's bound",
                           &O::speckFloor, 0, 1e6)),
         nested(

@@ -61,6 +61,7 @@ ref::NforParams NforReferenceParams(const NforOptions &o,
     p.glintBandTensorSigma = band.tensorSigma;
     p.glintBandBound = band.bound;
     p.speckRelative = o.speckRelative;
+    p.exactGround = !o.noExactGround;
     p.speckFloor = o.speckFloor;
     p.speckRank = o.speckRank;
     p.speckFlatShare = o.speckFlatShare;

@@ -963,17 +963,41 @@ std::vector<bool> FitsLeft(const Image &mask, int channels) {
     return left;
 }
 
+// The pixels on an exact ground (NforExactGround) given their input back in the fits'
+// output, the plan told; their flags.
+std::vector<char> KeepExactGround(StagedRun &run, const NforInputs &in, const Image &mask,
+                                  const Image &clamped, NforResult &result) {
+    std::vector<char> exact = NforExactGround(*in.color, clamped, mask);
+    const size_t n = exact.size();
+    for (size_t p = 0; p < n; ++p) {
+        if (!exact[p]) continue;
+        ++result.exactGround;
+        for (int c = 0; c < clamped.channels; ++c)
+            result.image.Plane(c)[p] = clamped.Plane(c)[p];
+    }
+    if (result.exactGround > 0)
+        run.Plan(fmt::format(
+            "exact ground: {} pixels unlike their 8 neighbours, whose colours are the same bit "
+            "for bit and lit (every sample there saw the same: a mirror's or a sky's "
+            "constant), keep their input (a light under a pixel, not noise) and stay out of "
+            "the local means (--no-exact-ground: fitted)",
+            result.exactGround));
+    return exact;
+}
+
 // The fits' output (result.image) with its specks clamped on a frame without a variance
 // layer, then the clamped colour's local means restored; `meansLeft` receives the values the
 // restore left (FitsLeft's and the highlights it gave their input back).
 void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, const Image &mask,
                   const Image &clamped, NforResult &result, std::vector<bool> *meansLeft) {
     run.AddStage("fit", result.image);
+    std::vector<char> exact;
     if (o.speckRelative >= 0 && PlainPasses(in, o, result)) {
         result.specks = NforClampSpecks(
             mask,
             {o.speckRelative, o.speckFloor, o.speckRank, o.speckFlatShare, o.speckFlatRelative},
             &result.image);
+        if (!o.noExactGround) exact = KeepExactGround(run, in, mask, clamped, result);
         run.AddStage("specks", result.image);
         run.Plan(fmt::format(
             "specks: {} pixels of the fits' output above (1 + {}) x the luminance of their "
@@ -987,6 +1011,10 @@ void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, co
                 : std::string()));
     }
     *meansLeft = FitsLeft(mask, clamped.channels);
+    for (size_t p = 0; p < exact.size(); ++p)
+        if (exact[p])
+            for (int c = 0; c < clamped.channels; ++c)
+                (*meansLeft)[c * exact.size() + p] = true;
     LocalMeanFactors f =
         RestoreLocalMeans(clamped, o.meanRadius, &result.image, nullptr, -1, false, meansLeft);
     run.Plan(

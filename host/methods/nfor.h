@@ -145,6 +145,11 @@ struct NforOptions {
     // On a flat ground (the neighbours' median at least speckFlatShare x the speckRank-th
     // brightest) the bound takes speckFlatRelative in place of speckRelative; 0: off.
     float speckFlatShare = 0.8f, speckFlatRelative = 0.1f;
+    // With the local means restored and the specks' passes running: a pixel on an exact
+    // ground (its 8 neighbours' colours the same bit for bit and lit, the pixel unlike them
+    // and left by the clamp: a light in a mirror under a pixel) keeps its input, and its
+    // light stays out of the local means (host/methods/nfor_specks.h); true: fitted.
+    bool noExactGround = false;
     // On a frame without a variance layer, or beside one where the clamp reads the frame's
     // own estimate (unless noLayerPasses), a pixel the fits left as it came in (it weighed
     // only itself: a partly covered edge unlike all around it) takes the feature-weighted
@@ -301,6 +306,7 @@ struct NforResult : MethodResult {
     size_t kept = 0;           // pixels the fits left as they came in, then smoothed
     size_t partlyCovered = 0;  // pixels denoised divided by their alpha
     size_t specks = 0;         // pixels of the fits' output scaled down as specks
+    size_t exactGround = 0;    // pixels on an exact ground that kept their input
     size_t lights = 0;         // emitter pixels that gave their neighbours light
     size_t lineGivers = 0;     // line pixels whose clamped light the line spread shared
     double lineMoved = 0, lineDropped = 0;  // the luminance it shared, and the cap dropped

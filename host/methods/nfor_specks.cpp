@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <vector>
 
@@ -65,6 +66,33 @@ size_t NforClampSpecks(const Image &mask, const NforSpeckSettings &s, Image *out
             ++changed;
         }
     return changed;
+}
+
+std::vector<char> NforExactGround(const Image &input, const Image &clamped, const Image &mask) {
+    const int w = input.width, h = input.height, channels = input.channels;
+    std::vector<char> exact(input.PixelCount(), 0);
+    // Whether pixels p and q hold the same bits in every channel of `image`.
+    auto same = [&](const Image &image, const Image &other, size_t p, size_t q) {
+        for (int c = 0; c < channels; ++c)
+            if (std::memcmp(&image.Plane(c)[p], &other.Plane(c)[q], sizeof(float)) != 0)
+                return false;
+        return true;
+    };
+    for (int y = 1; y + 1 < h; ++y)
+        for (int x = 1; x + 1 < w; ++x) {
+            const size_t p = size_t(y) * w + x, first = p - w - 1;
+            if (mask.data[p] != 1 || !same(input, clamped, p, p)) continue;
+            bool ground = true, lit = false;
+            for (int c = 0; c < channels; ++c) lit = lit || input.Plane(c)[first] > 0;
+            for (int v = y - 1; v <= y + 1 && ground && lit; ++v)
+                for (int u = x - 1; u <= x + 1 && ground; ++u) {
+                    const size_t q = size_t(v) * w + u;
+                    if (q == p) continue;
+                    ground = mask.data[q] == 1 && same(input, input, q, first);
+                }
+            exact[p] = ground && lit && !same(input, input, p, first);
+        }
+    return exact;
 }
 
 }  // namespace mcd

@@ -8,6 +8,8 @@
 // around it as much of its light as they hold for certain.
 #pragma once
 
+#include <vector>
+
 #include "host/image.h"
 
 namespace mcd {
@@ -30,5 +32,15 @@ struct NforSpeckSettings {
 // its luminance (its hue kept); every decision on the output as it came in. Returns how
 // many pixels changed.
 size_t NforClampSpecks(const Image &mask, const NforSpeckSettings &settings, Image *output);
+
+// Pixels on an exact ground (beyond the papers), for a frame without a variance layer: a
+// pixel (mask 1, not on the frame's border) that the firefly clamp left (`clamped` equal to
+// `input` in every channel) and that differs from its 8 neighbours, whose input colours are
+// all the same bit for bit, lit (a channel above 0) and no emitter (mask 1). Every sample
+// of such a ground saw the same (a mirror's or a sky's constant colour), so the pixel's
+// difference is no noise but its footprint's coverage of something small (a light seen in
+// a mirror), which the fits and the local means would spread into a blotch. One flag per
+// pixel.
+std::vector<char> NforExactGround(const Image &input, const Image &clamped, const Image &mask);
 
 }  // namespace mcd

@@ -2727,6 +2727,98 @@ TEST(NforGlintBands, SmoothsABrokenBandNearAGlint) {
     EXPECT_EQ(off.data, output.data);
 }
 
+// Stamps a 3x3 ground of `ground` (every channel, the same bits) around (x, y), its centre
+// `centre`.
+void StampGround(Image *image, int x, int y, float ground, float centre) {
+    for (int c = 0; c < image->channels; ++c)
+        for (int v = y - 1; v <= y + 1; ++v)
+            for (int u = x - 1; u <= x + 1; ++u)
+                image->At(c, v, u) = u == x && v == y ? centre : ground;
+}
+
+// The exact ground's flags against the reference. Designed grounds on a random frame: a
+// bright and a dark pixel on a lit ground (flagged); one the clamp changed, one beside an
+// emitter, one on a ground of 0, one on a ground of NaN, one equal to its ground and one on
+// the border (each left). Then frames of every kind, of one pixel, one row and 3x3 with a
+// ground stamped where it fits: the same flags as the reference's.
+TEST(NforExactGround, MatchesTheReference) {
+    const int w = 15, h = 9;
+    Image input = MakeVarianceInput(InputKind::Uniform, w, h, 3, SeedFromName("exact ground"));
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    StampGround(&input, 2, 2, 1.425f, 300.f);               // flagged
+    StampGround(&input, 6, 2, 1.425f, 0.1f);                // flagged: darker is as unlike
+    StampGround(&input, 10, 2, 1.425f, 300.f);              // clamped
+    StampGround(&input, 2, 6, 1.425f, 300.f);               // beside an emitter
+    StampGround(&input, 6, 6, 0.f, 5.f);                    // unlit ground
+    StampGround(&input, 10, 6, nan, 5.f);                   // NaN ground
+    StampGround(&input, 13, 4, 0.5f, 0.5f);                 // the centre equals its ground
+    for (int c = 0; c < 3; ++c) input.At(c, 4, 14) = 50.f;  // the border: 5 neighbours
+    Image clamped = input;
+    clamped.At(1, 2, 10) = 2.f;
+    Image mask(w, h, 1, 1.f);
+    mask.At(0, 7, 3) = 0;
+    const std::vector<char> flags = NforExactGround(input, clamped, mask);
+    EXPECT_EQ(flags, ref::NforExactGround(input, clamped, mask));
+    std::set<std::pair<int, int>> flagged;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (flags[size_t(y) * w + x]) flagged.insert({x, y});
+    EXPECT_EQ(flagged, (std::set<std::pair<int, int>>{{2, 2}, {6, 2}}));
+
+    size_t count = 0;
+    for (auto [fw, fh] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{9, 1}, std::pair{3, 3}})
+        for (InputKind kind : {InputKind::Uniform, InputKind::LogNormalFireflies,
+                               InputKind::Constant, InputKind::Impulse}) {
+            std::string name =
+                fmt::format("exact ground {}x{} {}", fw, fh, InputKindName(kind));
+            uint64_t seed = SeedFromName(name);
+            Image frame = MakeVarianceInput(kind, fw, fh, 3, seed);
+            if (fw >= 3 && fh >= 3) StampGround(&frame, 1, 1, 0.75f, float(1 + seed % 100));
+            Image frameMask(fw, fh, 1, 1.f);
+            const std::vector<char> got = NforExactGround(frame, frame, frameMask);
+            EXPECT_EQ(got, ref::NforExactGround(frame, frame, frameMask)) << name;
+            for (char f : got) count += f;
+        }
+    EXPECT_GT(count, 0u);
+}
+
+// A light under a pixel seen in a mirror: a pixel of 300 amid neighbours of exactly 1.425
+// (every sample there saw the same) keeps its input, and the pixels around it stay near
+// their ground; with --no-exact-ground the fits and the local means spread its light into
+// a blotch. The stages match the reference's with such a ground in the frame.
+TEST_F(NforMethod, KeepsALightUnderAPixelOnAnExactGround) {
+    auto stamp = [](Frame *f, Image *) {
+        for (int c = 0; c < 3; ++c)
+            for (int y = 8; y < 15; ++y)
+                for (int x = 8; x < 15; ++x) {
+                    f->color.At(c, y, x) = x == 11 && y == 11 ? 300.f : 1.425f;
+                    f->albedo.At(c, y, x) = 0.95f;
+                }
+    };
+    NforOptions o;
+    o.radius = 3;
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, false, false, false, stamp);
+    Frame f = MakeFrame(29, 23, 0.3, "exact ground");
+    stamp(&f, nullptr);
+    NforOptions off = o;
+    off.noExactGround = true;
+    NforResult a = NforDenoise(Ctx(), InputsOf(f), o), b = NforDenoise(Ctx(), InputsOf(f), off);
+    EXPECT_EQ(a.exactGround, 1u);
+    EXPECT_EQ(b.exactGround, 0u);
+    double nearA = 0, nearB = 0;
+    for (int y = 9; y < 14; ++y)
+        for (int x = 9; x < 14; ++x)
+            if (x != 11 || y != 11) {
+                nearA = std::max(nearA, double(a.image.At(1, y, x)));
+                nearB = std::max(nearB, double(b.image.At(1, y, x)));
+            }
+    fmt::print("centre {:.1f} / {:.1f}, its neighbours at most {:.3f} / {:.3f}\n",
+               a.image.At(1, 11, 11), b.image.At(1, 11, 11), nearA, nearB);
+    EXPECT_NEAR(a.image.At(1, 11, 11), 300.f, 3.f);
+    EXPECT_LT(nearA, 1.2 * 1.425);
+    EXPECT_GT(nearB, 2 * 1.425) << "the frame no longer shows the blotch";
+}
+
 // A speck the firefly clamp leaves (a pixel at 1.7x its flat neighbours, under the clamp's
 // limit) and the fits keep (its normal unlike its neighbours') comes out near its neighbours:
 // scaled down to the bound, its light given to the pixels around it by the local means, the
