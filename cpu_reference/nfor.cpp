@@ -1129,11 +1129,12 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
         if (p.speckRelative >= 0 && plain) {
             NforClampSpecks(mask, p.speckRank, p.speckRelative, p.speckFloor, &out,
                             p.speckFlatShare, p.speckFlatRelative);
+            // A pixel on an exact ground takes its clamped colour (its input) back.
             if (p.exactGround) exact = NforExactGround(color, clamped, mask);
-            for (int c = 0; c < out.channels; ++c)
-                for (int y = 0; y < out.height; ++y)
-                    for (int x = 0; x < out.width; ++x)
-                        if (exact.size() && exact[size_t(y) * out.width + x])
+            for (int y = 0; y < out.height && !exact.empty(); ++y)
+                for (int x = 0; x < out.width; ++x)
+                    if (exact[size_t(y) * out.width + x])
+                        for (int c = 0; c < out.channels; ++c)
                             out.At(c, y, x) = clamped.At(c, y, x);
             keep("specks", out);
         }
