@@ -6,6 +6,8 @@
 #include <functional>
 #include <vector>
 
+#include "host/common/parallel.h"
+
 namespace mcd {
 
 namespace {
@@ -78,20 +80,23 @@ std::vector<char> NforExactGround(const Image &input, const Image &clamped, cons
                 return false;
         return true;
     };
-    for (int y = 1; y + 1 < h; ++y)
-        for (int x = 1; x + 1 < w; ++x) {
-            const size_t p = size_t(y) * w + x, first = p - w - 1;
-            if (mask.data[p] != 1 || !same(input, clamped, p, p)) continue;
-            bool ground = true, lit = false;
-            for (int c = 0; c < channels; ++c) lit = lit || input.Plane(c)[first] > 0;
-            for (int v = y - 1; v <= y + 1 && ground && lit; ++v)
-                for (int u = x - 1; u <= x + 1 && ground; ++u) {
-                    const size_t q = size_t(v) * w + u;
-                    if (q == p) continue;
-                    ground = mask.data[q] == 1 && same(input, input, q, first);
-                }
-            exact[p] = ground && lit && !same(input, input, p, first);
-        }
+    // Rows split among the cores: each pixel's flag reads the frame only.
+    ParallelFor(std::max(h - 2, 0), size_t(w) * h * 8 * size_t(channels), [&](int y0, int y1) {
+        for (int y = y0 + 1; y < y1 + 1; ++y)
+            for (int x = 1; x + 1 < w; ++x) {
+                const size_t p = size_t(y) * w + x, first = p - w - 1;
+                if (mask.data[p] != 1 || !same(input, clamped, p, p)) continue;
+                bool ground = true, lit = false;
+                for (int c = 0; c < channels; ++c) lit = lit || input.Plane(c)[first] > 0;
+                for (int v = y - 1; v <= y + 1 && ground && lit; ++v)
+                    for (int u = x - 1; u <= x + 1 && ground; ++u) {
+                        const size_t q = size_t(v) * w + u;
+                        if (q == p) continue;
+                        ground = mask.data[q] == 1 && same(input, input, q, first);
+                    }
+                exact[p] = ground && lit && !same(input, input, p, first);
+            }
+    });
     return exact;
 }
 

@@ -33,6 +33,7 @@
 #include "harness/inputs.h"
 #include "host/api/device.h"
 #include "host/api/nfor_reference.h"
+#include "host/common/parallel.h"
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/nfor.h"
 #include "host/methods/nfor_alpha.h"
@@ -2777,6 +2778,10 @@ TEST(NforExactGround, MatchesTheReference) {
             Image frameMask(fw, fh, 1, 1.f);
             const std::vector<char> got = NforExactGround(frame, frame, frameMask);
             EXPECT_EQ(got, ref::NforExactGround(frame, frame, frameMask)) << name;
+            {
+                ForceParallelParts split(3);  // rows among threads: the same flags
+                EXPECT_EQ(NforExactGround(frame, frame, frameMask), got) << name;
+            }
             for (char f : got) count += f;
         }
     EXPECT_GT(count, 0u);
