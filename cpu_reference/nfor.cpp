@@ -948,8 +948,14 @@ Image NforClampFrame(const NforInputs &in, const NforParams &p, const Image &var
                          p.fireflyRank, p.fireflyLightEdge, p.fireflySum, p.fireflyLine,
                          p.fireflyLoneLight, p.fireflyLineFloor);
     };
-    Image clamped = clamp(ownClamp ? *clampVariance : variance);
-    if (!ownClamp) return clamped;
+    // The layer as the clamp reads it: lone samples capped where p.loneReach > 0.
+    auto layer = [&]() {
+        if (p.loneReach <= 0) return variance;
+        return NforCapLoneSamples(variance, color, p.loneHits, p.loneRatio, p.loneReach,
+                                  nullptr);
+    };
+    if (!ownClamp) return clamp(in.variance ? layer() : variance);
+    Image clamped = clamp(*clampVariance);
     // The light the clamp took off, over the colour's sum.
     double sum = 0, taken = 0, values = 0, changed = 0;
     for (int c = 0; c < color.channels; ++c)
@@ -962,7 +968,7 @@ Image NforClampFrame(const NforInputs &in, const NforParams &p, const Image &var
             }
     if (sum > 0 && changed >= kNforClampLossMinShare * values && taken / sum > p.clampLoss) {
         *onLayer = true;
-        clamped = clamp(variance);
+        clamped = clamp(layer());
     }
     return clamped;
 }

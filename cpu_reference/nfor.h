@@ -141,6 +141,10 @@ struct NforParams {
     // every pixel and channel), clamping at least kNforClampLossMinShare of the values:
     // then the layer's.
     double clampLoss = 0.02;
+    // Where the clamp reads the layer: its lone samples capped (NforCapLoneSamples,
+    // cpu_reference/nfor_specks.h) with these settings; loneReach 0: off.
+    double loneHits = 2, loneRatio = 4;
+    int loneReach = 0;
     double fireflyThreshold = 4;   // t; 0: no clamp
     double fireflyRelative = 0.5;  // rho
     int fireflyRank = 3;           // 0: the neighbours' lower median; k: their k-th largest

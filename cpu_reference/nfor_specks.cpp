@@ -94,4 +94,76 @@ std::vector<char> NforExactGround(const Image &input, const Image &clamped, cons
     return flags;
 }
 
+namespace {
+
+// The lower median of `values` (not empty): the ((n - 1) / 2)-th smallest.
+double LowerMedianOf(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    return values[(values.size() - 1) / 2];
+}
+
+bool IsLoneSample(const Image &variance, const Image &color, int y, int x, double hits,
+                  double ratio) {
+    double m = 0, s = 0;
+    for (int c = 0; c < color.channels; ++c) {
+        m += color.At(c, y, x);
+        s += std::sqrt(std::max(double(variance.At(c, y, x)), 0.0));
+    }
+    m /= color.channels;
+    s /= color.channels;
+    if (!(m * m < hits * s * s)) return false;
+    std::vector<double> means;
+    int firstY = -1, firstX = -1;
+    bool allSame = true;
+    for (int v = y - 1; v <= y + 1; ++v)
+        for (int u = x - 1; u <= x + 1; ++u) {
+            if ((u == x && v == y) || u < 0 || v < 0 || u >= color.width || v >= color.height)
+                continue;
+            if (firstY < 0) firstY = v, firstX = u;
+            allSame = allSame && SameColour(color, v, u, color, firstY, firstX);
+            const double l = Mean(color, u, v);
+            if (std::isfinite(l)) means.push_back(l);
+        }
+    if (means.empty() || allSame) return false;
+    const double median = LowerMedianOf(means);
+    return median > 0 && m > ratio * median;
+}
+
+}  // namespace
+
+Image NforCapLoneSamples(const Image &variance, const Image &color, double hits, double ratio,
+                         int reach, size_t *count) {
+    const int w = color.width, h = color.height;
+    std::vector<char> lone(size_t(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            lone[size_t(y) * w + x] = IsLoneSample(variance, color, y, x, hits, ratio);
+    Image out = variance;
+    size_t capped = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (!lone[size_t(y) * w + x]) continue;
+            int others = 0;
+            for (int v = std::max(0, y - reach); v <= std::min(h - 1, y + reach); ++v)
+                for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach); ++u)
+                    others += (u != x || v != y) && lone[size_t(v) * w + u];
+            if (others > 0) continue;
+            for (int c = 0; c < variance.channels; ++c) {
+                std::vector<double> around;
+                for (int v = y - 1; v <= y + 1; ++v)
+                    for (int u = x - 1; u <= x + 1; ++u) {
+                        if ((u == x && v == y) || u < 0 || v < 0 || u >= w || v >= h) continue;
+                        if (std::isfinite(variance.At(c, v, u)))
+                            around.push_back(variance.At(c, v, u));
+                    }
+                if (!around.empty())
+                    out.At(c, y, x) =
+                        float(std::min(double(variance.At(c, y, x)), LowerMedianOf(around)));
+            }
+            ++capped;
+        }
+    if (count) *count = capped;
+    return out;
+}
+
 }  // namespace mcd::ref

@@ -22,4 +22,15 @@ void NforClampSpecks(const Image &mask, int rank, double relative, double floor,
 // not equal to theirs. One flag per pixel.
 std::vector<char> NforExactGround(const Image &input, const Image &clamped, const Image &mask);
 
+// The variance layer the firefly clamp reads, lone samples capped: pixel p is a lone sample
+// where, with m its colour's mean over the channels and s the mean over the channels of the
+// square roots of its variances (negative ones as 0), m^2 < hits s^2; its in-frame
+// neighbours (3x3, p left out) do not all hold the same colour bits; and m > ratio x the
+// lower median of the neighbours' colour means (the finite ones; some finite, median above
+// 0). A lone sample with no other lone sample in the (2 reach + 1)^2 window around it (cut at
+// the frame) gets each channel of `variance` at p as min(its own, the lower median of its
+// in-frame neighbours' finite values in that channel). `count`: the pixels capped.
+Image NforCapLoneSamples(const Image &variance, const Image &color, double hits, double ratio,
+                         int reach, size_t *count);
+
 }  // namespace mcd::ref

@@ -16,6 +16,7 @@
 #include "host/methods/nfor_band.h"
 #include "host/methods/nfor_line.h"
 #include "host/methods/nfor_rare.h"
+#include "host/methods/nfor_specks.h"
 
 namespace mcd::api {
 namespace {
@@ -143,6 +144,13 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "estimate takes off more than this fraction of the colour's sum (the "
                           "light is in rare bright samples, not fireflies) it reads the layer",
                           &O::clampLoss, 0, 1)),
+        nested(BoolParam("no-lone-sample-cap",
+                         "where the firefly clamp reads the variance layer, read it as it is "
+                         "(by default an isolated lone sample, a pixel whose layer says one "
+                         "sample holds its mean, far above its neighbours and with no other "
+                         "such pixel within 15, reads its neighbours' median there, so a "
+                         "firefly on a quiet ground is clamped)",
+                         &O::noLoneSampleCap)),
         nested(FloatParam("noise-calibration", "factor on the estimated variance",
                           &O::noiseCalibration, 1e-3, 1e3)),
         nested(FloatParam("firefly-threshold",
@@ -484,10 +492,15 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         const int lightReach = NforSpreadsLights(o, !passesOff, inputs.Has("albedo")) ? 1 : 0;
         // The clamp reads its 8 neighbours, its line test 2 pixels away, the line's floor
         // the emitters kNforLineFloorReach away.
-        const int clampReach = o.fireflyLineFloor > 0 && inputs.Has("albedo")
-                                   ? std::max(2, kNforLineFloorReach)
-                               : o.fireflyLine > 0 ? 2
-                                                   : 1;
+        const int lineReach = o.fireflyLineFloor > 0 && inputs.Has("albedo")
+                                  ? std::max(2, kNforLineFloorReach)
+                              : o.fireflyLine > 0 ? 2
+                                                  : 1;
+        // Where it may read the layer, the lone samples' cap reads their flags
+        // kNforLoneReach away, each of its 8 neighbours.
+        const bool loneCap =
+            options.noise == "auto" && inputs.Has("variance") && !o.noLoneSampleCap;
+        const int clampReach = std::max(lineReach, loneCap ? kNforLoneReach + 1 : 0);
         // The distance's trust reads the clamped colour of the 8 neighbours, which reads
         // max(clamp, noise) further: 1 + max(clamp, noise), which the noise and clamp's
         // reach below already holds (both at least 1); the max keeps the trust named.

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "host/methods/nfor_band.h"
+#include "host/methods/nfor_specks.h"
 
 namespace mcd::api {
 
@@ -62,6 +63,9 @@ ref::NforParams NforReferenceParams(const NforOptions &o,
     p.glintBandBound = band.bound;
     p.speckRelative = o.speckRelative;
     p.exactGround = !o.noExactGround;
+    p.loneHits = kNforLoneHits;
+    p.loneRatio = kNforLoneRatio;
+    p.loneReach = o.noLoneSampleCap ? 0 : kNforLoneReach;
     p.speckFloor = o.speckFloor;
     p.speckRank = o.speckRank;
     p.speckFlatShare = o.speckFlatShare;

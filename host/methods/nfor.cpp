@@ -472,8 +472,19 @@ void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforO
                         o.fireflyLightEdge, !o.fireflyEachChannel, o.fireflyLine,
                         o.fireflyLoneLight, o.fireflyLineFloor, gpu.clamped, gpu.mask);
     };
+    // The layer as the clamp reads it: its isolated lone samples' values capped
+    // (NforCapLoneSamples), in a buffer of its own submitted before it is freed.
+    auto clampLayer = [&]() {
+        if (o.noLoneSampleCap) return clamp(gpu.variance);
+        vk::GpuImage capped(context, gpu.variance.width, gpu.variance.height,
+                            gpu.variance.channels, "nfor.clampLayer");
+        capped.Upload(NforCapLoneSamples(*in.variance, *in.color, &result.loneSamples));
+        clamp(capped);
+        run.Submit();
+    };
+    if (in.variance && !ownClamp) return clampLayer();
     clamp(clampVariance);
-    if (!in.variance || !ownClamp) return;
+    if (!in.variance) return;
     if (in.clampLoss >= 0) {
         result.clampLoss = in.clampLoss;  // the whole frame's: every tile decides alike
     } else {
@@ -481,7 +492,7 @@ void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforO
         result.clampLoss = ClampLoss(*in.color, gpu.clamped.Download());
     }
     result.clampOnLayer = result.clampLoss > o.clampLoss;
-    if (result.clampOnLayer) clamp(gpu.variance);
+    if (result.clampOnLayer) clampLayer();
 }
 
 // Rows [y0, y1) of every channel of `image`.
@@ -803,6 +814,14 @@ void PlanClamp(StagedRun &run, const NforInputs &in, const NforOptions &o,
         in.clampLoss >= 0 ? " (measured over the whole frame before its tiles, so every "
                             "tile reads the same)"
                           : "";
+    const bool onLayer = o.clampLayer || result.clampOnLayer;
+    if (onLayer && !o.noLoneSampleCap)
+        run.Plan(fmt::format(
+            "lone samples: {} pixels whose layer says about one sample holds their mean, "
+            "above {}x their neighbours' median and with no other such pixel within {}, read "
+            "their neighbours' median variance in the clamp (a firefly on a quiet ground; a "
+            "caustic's samples come in numbers) (--no-lone-sample-cap: off)",
+            result.loneSamples, kNforLoneRatio, kNforLoneReach));
     if (o.clampLayer)
         run.Plan("the firefly clamp reads the variance layer (--clamp-layer)");
     else if (result.clampOnLayer)

@@ -72,6 +72,9 @@ struct NforOptions {
     // than this fraction of the colour's sum, the frame's light is in its rare bright
     // samples (caustics seen through few paths), not in fireflies: it reads the layer.
     float clampLoss = 0.02f;
+    // Where the clamp reads the layer, an isolated lone sample's value of it capped at its
+    // neighbours' (NforCapLoneSamples): a firefly on a quiet ground is clamped; true: off.
+    bool noLoneSampleCap = false;
     // Without a variance layer the clamp reads the frame's estimate and the weights one of
     // the clamped colour in which an edge pixel (too few neighbours divided alike) takes
     // its neighbours' pairs; true: both read the first.
@@ -306,6 +309,7 @@ struct NforResult : MethodResult {
     size_t kept = 0;           // pixels the fits left as they came in, then smoothed
     size_t partlyCovered = 0;  // pixels denoised divided by their alpha
     size_t specks = 0;         // pixels of the fits' output scaled down as specks
+    size_t loneSamples = 0;    // isolated lone samples whose layer the clamp read capped
     size_t exactGround = 0;    // pixels on an exact ground that kept their input
     size_t lights = 0;         // emitter pixels that gave their neighbours light
     size_t lineGivers = 0;     // line pixels whose clamped light the line spread shared

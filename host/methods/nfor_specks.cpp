@@ -100,4 +100,102 @@ std::vector<char> NforExactGround(const Image &input, const Image &clamped, cons
     return exact;
 }
 
+namespace {
+
+// The in-frame neighbours of (x, y) in the 3x3 window, the pixel left out: calls
+// visit(index) for each.
+template <typename Visit>
+void ForNeighbours(int w, int h, int x, int y, Visit visit) {
+    for (int v = std::max(y - 1, 0); v <= std::min(y + 1, h - 1); ++v)
+        for (int u = std::max(x - 1, 0); u <= std::min(x + 1, w - 1); ++u)
+            if (u != x || v != y) visit(size_t(v) * w + u);
+}
+
+// The lower median of values[0, n) (n > 0), reordering them.
+template <typename T>
+T LowerMedian(T *values, int n) {
+    std::nth_element(values, values + (n - 1) / 2, values + n);
+    return values[(n - 1) / 2];
+}
+
+// Whether pixel (x, y) is a lone sample (NforCapLoneSamples): its layer says about one
+// sample holds its mean, it is far above its neighbours, whose colours are lit and not
+// all the same bits.
+bool LoneSample(const Image &variance, const Image &color, int x, int y) {
+    const int w = color.width, h = color.height;
+    const size_t p = size_t(y) * w + x;
+    double mean = 0, sigma = 0;
+    for (int c = 0; c < color.channels; ++c) {
+        mean += color.Plane(c)[p];
+        sigma += std::sqrt(std::max(double(variance.Plane(c)[p]), 0.0));
+    }
+    mean /= color.channels;
+    sigma /= color.channels;
+    if (!(mean * mean < kNforLoneHits * sigma * sigma)) return false;
+    double around[8];
+    int n = 0;
+    bool exact = true;
+    const size_t first = size_t(std::max(y - 1, 0)) * w + std::max(x - 1, 0);
+    ForNeighbours(w, h, x, y, [&](size_t q) {
+        double l = 0;
+        for (int c = 0; c < color.channels; ++c) {
+            l += color.Plane(c)[q];
+            exact = exact &&
+                    std::memcmp(&color.Plane(c)[q], &color.Plane(c)[first], sizeof(float)) == 0;
+        }
+        if (std::isfinite(l)) around[n++] = l / color.channels;
+    });
+    if (n == 0 || exact) return false;
+    const double median = LowerMedian(around, n);
+    return median > 0 && mean > kNforLoneRatio * median;
+}
+
+}  // namespace
+
+Image NforCapLoneSamples(const Image &variance, const Image &color, size_t *count) {
+    const int w = color.width, h = color.height;
+    // Lone-sample flags, and their counts summed over the rectangle above and left of each
+    // place (a summed-area table, (w + 1) x (h + 1)).
+    std::vector<char> lone(color.PixelCount(), 0);
+    ParallelFor(h, size_t(w) * h * 16, [&](int y0, int y1) {
+        for (int y = y0; y < y1; ++y)
+            for (int x = 0; x < w; ++x)
+                lone[size_t(y) * w + x] = LoneSample(variance, color, x, y);
+    });
+    std::vector<int> table(size_t(w + 1) * (h + 1), 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            table[size_t(y + 1) * (w + 1) + x + 1] =
+                lone[size_t(y) * w + x] + table[size_t(y) * (w + 1) + x + 1] +
+                table[size_t(y + 1) * (w + 1) + x] - table[size_t(y) * (w + 1) + x];
+    auto within = [&](int x, int y) {
+        const int x0 = std::max(x - kNforLoneReach, 0),
+                  x1 = std::min(x + kNforLoneReach + 1, w);
+        const int y0 = std::max(y - kNforLoneReach, 0),
+                  y1 = std::min(y + kNforLoneReach + 1, h);
+        return table[size_t(y1) * (w + 1) + x1] - table[size_t(y0) * (w + 1) + x1] -
+               table[size_t(y1) * (w + 1) + x0] + table[size_t(y0) * (w + 1) + x0];
+    };
+    Image capped = variance;
+    size_t changed = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p = size_t(y) * w + x;
+            if (!lone[p] || within(x, y) != 1) continue;
+            for (int c = 0; c < variance.channels; ++c) {
+                float around[8];
+                int n = 0;
+                ForNeighbours(w, h, x, y, [&](size_t q) {
+                    const float value = variance.Plane(c)[q];
+                    if (std::isfinite(value)) around[n++] = value;
+                });
+                if (n > 0)
+                    capped.Plane(c)[p] = std::min(capped.Plane(c)[p], LowerMedian(around, n));
+            }
+            ++changed;
+        }
+    if (count) *count = changed;
+    return capped;
+}
+
 }  // namespace mcd

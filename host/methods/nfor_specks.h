@@ -43,4 +43,21 @@ size_t NforClampSpecks(const Image &mask, const NforSpeckSettings &settings, Ima
 // pixel.
 std::vector<char> NforExactGround(const Image &input, const Image &clamped, const Image &mask);
 
+// A lone sample: the layer's sigma at least the mean over sqrt(kNforLoneHits) (one sample
+// of n holds a mean m with a sigma of the mean about m), the mean above kNforLoneRatio x its
+// neighbours' median; isolated: no other lone sample within kNforLoneReach (a caustic's
+// samples come in numbers).
+constexpr double kNforLoneHits = 2, kNforLoneRatio = 4;
+constexpr int kNforLoneReach = 15;
+
+// A variance layer for the firefly clamp (beyond the papers): a firefly's few samples report
+// its own variance in the layer, so a threshold of sigmas of it clamps nothing. At each
+// isolated lone sample (above; the mean of the channels, colour and sigma alike) every
+// channel of `variance` is capped at the lower median of its in-frame neighbours' values
+// (non-finite ones skipped), so the clamp reads the quiet ground's noise there; a caustic's
+// lone samples, near each other, keep theirs. A pixel whose neighbours' colour is the same
+// bit for bit (an exact ground: every sample saw the same, so a light there is coverage)
+// or whose neighbours' median is 0 is no lone sample. `count`: the pixels capped.
+Image NforCapLoneSamples(const Image &variance, const Image &color, size_t *count);
+
 }  // namespace mcd

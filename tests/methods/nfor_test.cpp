@@ -2787,6 +2787,139 @@ TEST(NforExactGround, MatchesTheReference) {
     EXPECT_GT(count, 0u);
 }
 
+// A quiet ground for the lone samples' cap: colour about 0.45 (a little noise), its layer
+// 0.002 (samples that agree).
+void QuietGround(Image *color, Image *variance, const std::string &name) {
+    std::mt19937_64 rng(SeedFromName(name));
+    std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+    for (size_t i = 0; i < color->Size(); ++i) {
+        color->data[i] = float(0.45 + jitter(rng));
+        variance->data[i] = float(0.002 * (1 + jitter(rng)));
+    }
+}
+
+// Stamps a lone sample at (x, y): one sample of 64 at value v, so the mean is v / 64 and the
+// layer's variance of the mean about its square.
+void StampLoneSample(Image *color, Image *variance, int x, int y, float v) {
+    for (int c = 0; c < color->channels; ++c) {
+        color->At(c, y, x) = v / 64;
+        variance->At(c, y, x) = (v / 64) * (v / 64);
+    }
+}
+
+// The lone samples' cap against the reference. Designed: on a quiet ground an isolated lone
+// sample (capped, to its neighbours' median), two lone samples 10 apart (a caustic's: both
+// kept), one 30 from them (capped), one on an exact ground, one on a ground of 0, one whose
+// layer says many samples, one of NaN (all kept). Then frames of every kind, of one pixel,
+// one row and 3x3: the same values and count as the reference's, under a forced split too.
+TEST(NforCapLoneSamples, MatchesTheReference) {
+    const int w = 80, h = 40;
+    Image color(w, h, 3), variance(w, h, 3);
+    QuietGround(&color, &variance, "lone samples");
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    StampLoneSample(&color, &variance, 8, 8, 2300.f);   // capped
+    StampLoneSample(&color, &variance, 40, 8, 2300.f);  // a pair 10 apart: kept
+    StampLoneSample(&color, &variance, 50, 8, 2300.f);
+    StampLoneSample(&color, &variance, 50, 38, 2300.f);  // 30 below the pair: capped
+    StampGround(&color, 8, 30, 1.425f, 400.f);           // an exact ground: kept
+    StampGround(&variance, 8, 30, 0.f, 400.f * 400.f);
+    StampGround(&color, 20, 30, 0.f, 30.f);  // a ground of 0: kept
+    StampGround(&variance, 20, 30, 0.f, 900.f);
+    StampLoneSample(&color, &variance, 70, 20, 2300.f);  // many samples: kept
+    for (int c = 0; c < 3; ++c) variance.At(c, 20, 70) = 1.f;
+    for (int c = 0; c < 3; ++c) color.At(c, 25, 30) = nan;  // NaN: kept
+    size_t count = 0, refCount = 0;
+    const Image capped = NforCapLoneSamples(variance, color, &count);
+    EXPECT_EQ(capped.data, ref::NforCapLoneSamples(variance, color, kNforLoneHits,
+                                                   kNforLoneRatio, kNforLoneReach, &refCount)
+                               .data);
+    EXPECT_EQ(count, 2u);
+    EXPECT_EQ(refCount, count);
+    std::set<std::pair<int, int>> changed;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (capped.At(1, y, x) != variance.At(1, y, x)) changed.insert({x, y});
+    EXPECT_EQ(changed, (std::set<std::pair<int, int>>{{8, 8}, {50, 38}}));
+    EXPECT_LT(capped.At(1, 8, 8), 0.0021f);
+
+    size_t total = 0;
+    for (auto [fw, fh] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{9, 1}, std::pair{3, 3}})
+        for (InputKind kind : {InputKind::Uniform, InputKind::LogNormalFireflies,
+                               InputKind::Constant, InputKind::Impulse}) {
+            const std::string name =
+                fmt::format("lone samples {}x{} {}", fw, fh, InputKindName(kind));
+            const uint64_t seed = SeedFromName(name);
+            Image frame = MakeVarianceInput(kind, fw, fh, 3, seed);
+            Image layer = MakeVarianceInput(InputKind::Uniform, fw, fh, 3, seed + 1);
+            for (float &v : layer.data) v *= 0.01f;
+            if (fw >= 3 && fh >= 3) StampLoneSample(&frame, &layer, fw / 2, fh / 2, 900.f);
+            size_t got = 0, want = 0;
+            const Image out = NforCapLoneSamples(layer, frame, &got);
+            EXPECT_EQ(out.data, ref::NforCapLoneSamples(layer, frame, kNforLoneHits,
+                                                        kNforLoneRatio, kNforLoneReach, &want)
+                                    .data)
+                << name;
+            EXPECT_EQ(got, want) << name;
+            {
+                ForceParallelParts split(3);  // rows among threads: the same values
+                EXPECT_EQ(NforCapLoneSamples(layer, frame, nullptr).data, out.data) << name;
+            }
+            total += got;
+        }
+    EXPECT_GT(total, 0u);
+}
+
+// A firefly on a quiet ground beside a variance layer the clamp reads (--clamp-layer): its
+// layer reports its own variance, so without the cap the clamp keeps it and the fits spread
+// it; with the cap it is clamped and the pixels around it stay near the ground. A pair of
+// lone samples 6 apart (a caustic's) keeps its light either way. The stages match the
+// reference's with such a firefly in the frame.
+TEST_F(NforMethod, ClampsAnIsolatedLoneSampleBesideALayer) {
+    const int w = 64, h = 40;
+    Frame f = MakeFrame(w, h, 0, "lone sample");
+    Image variance(w, h, 3);
+    QuietGround(&f.color, &variance, "lone sample ground");
+    for (float &a : f.albedo.data) a = 0.5f;
+    StampLoneSample(&f.color, &variance, 14, 20, 2300.f);
+    StampLoneSample(&f.color, &variance, 44, 17, 2300.f);
+    StampLoneSample(&f.color, &variance, 50, 17, 2300.f);
+    NforInputs in = InputsOf(f);
+    in.variance = &variance;
+    NforOptions o;
+    o.radius = 3;
+    o.clampLayer = true;
+    NforOptions off = o;
+    off.noLoneSampleCap = true;
+    NforResult a = NforDenoise(Ctx(), in, o), b = NforDenoise(Ctx(), in, off);
+    EXPECT_EQ(a.loneSamples, 1u);
+    double nearA = 0, nearB = 0, pairA = 0, pairB = 0;
+    for (int y = 17; y < 24; ++y)
+        for (int x = 11; x < 18; ++x) {
+            nearA = std::max(nearA, double(a.image.At(1, y, x)));
+            nearB = std::max(nearB, double(b.image.At(1, y, x)));
+        }
+    for (int y = 12; y < 23; ++y)
+        for (int x = 39; x < 56; ++x)
+            pairA += a.image.At(1, y, x), pairB += b.image.At(1, y, x);
+    fmt::print(
+        "near the firefly at most {:.3f} / {:.3f} (cap / none); the pair's light {:.1f} / "
+        "{:.1f}\n",
+        nearA, nearB, pairA, pairB);
+    EXPECT_LT(nearA, 1.5);
+    EXPECT_GT(nearB, 5.0) << "the frame no longer shows the firefly's spread";
+    EXPECT_NEAR(pairA, pairB, 0.01 * pairB);
+    EXPECT_GT(pairA, 60.0) << "the pair's light is kept";
+    // The stages' layer is 0.3 x the truth's: a truth of 400 / 3 makes a colour of 40 a
+    // lone sample there.
+    auto stamp = [](Frame *frame, Image *) {
+        for (int c = 0; c < 3; ++c) {
+            frame->color.At(c, 11, 12) = 40.f;
+            frame->truth.At(c, 11, 12) = 400.f / 3;
+        }
+    };
+    ExpectStagesMatch(Ctx(), 29, 23, o, true, false, false, false, stamp);
+}
+
 // A light under a pixel seen in a mirror: a pixel of 300 amid neighbours of exactly 1.425
 // (every sample there saw the same) keeps its input, and the pixels around it stay near
 // their ground; with --no-exact-ground the fits and the local means spread its light into

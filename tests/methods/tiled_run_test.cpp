@@ -26,6 +26,7 @@
 #include "host/methods/nfor.h"
 #include "host/methods/nfor_band.h"
 #include "host/methods/nfor_line.h"
+#include "host/methods/nfor_specks.h"
 #include "host/methods/run_memo.h"
 #include "mcdenoise/mcdenoise.h"
 #include "pivot/pivot.h"
@@ -666,6 +667,40 @@ TEST_F(GpuTest, TiledRunNforClampDecidesOnceForTheFrame) {
             EXPECT_TRUE(said) << "the plan says the decision is the frame's";
         }
     }
+}
+
+// nfor beside a variance layer whose clamp reads it, with lone samples (one sample of 64
+// holding the mean) on both sides of the tiles' seam: isolated ones, pairs 12 apart (a
+// caustic's, kept) and a pair 8 apart astride the edge the right tile's window would have
+// without the lone samples' reach (there its right one would look isolated). Each tile's
+// halo holds that reach, so the tiled result is the untiled one bit for bit.
+TEST_F(GpuTest, TiledRunNforLoneSamplesAreTheWholeFrames) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 512, height = 48, tile = 256;
+    Frame frame = RareBrightLeftFrame(width, height, 48);
+    Params params = {{"radius", 3}, {"pilot-bandwidths", std::string("none")}};
+    Params without = params;
+    without.push_back({"no-lone-sample-cap", true});
+    const int reach = NeedsWith("nfor", params, frame).reach,
+              shorter = NeedsWith("nfor", without, frame).reach;
+    EXPECT_GT(reach, shorter) << "the lone samples' reach";
+    // The right window's first column without that reach: the pair's right one inside.
+    const int edge = tile - shorter;
+    ASSERT_GT(edge - 7, 48 + kNforLoneReach) << "the pair is clear of the bright columns";
+    Image &color = frame.layers["color"], &variance = frame.layers["variance"];
+    for (auto [x, y] : {std::pair{edge + 1, 24}, std::pair{edge - 7, 24}, std::pair{300, 40},
+                        std::pair{330, 20}, std::pair{342, 20}, std::pair{400, 6}})
+        for (int c = 0; c < 3; ++c) {
+            color.At(c, y, x) = 40.f;
+            variance.At(c, y, x) = 1600.f;
+        }
+    auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
+    EXPECT_TRUE(ClampReadsTheLayer(whole));
+    bool said = false;
+    for (const std::string &line : whole.plan)
+        said = said || line.find("lone samples: 2 pixels") != std::string::npos;
+    EXPECT_TRUE(said) << "two isolated lone samples capped";
+    ExpectSameBits(whole.image, tiled.image, "nfor tiled, lone samples");
 }
 
 // nfor beside a variance layer capped at --layer-noise-cap times the frame's own estimate:
