@@ -473,12 +473,15 @@ void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforO
                         o.fireflyLoneLight, o.fireflyLineFloor, gpu.clamped, gpu.mask);
     };
     // The layer as the clamp reads it: its isolated lone samples' values capped
-    // (NforCapLoneSamples), in a buffer of its own submitted before it is freed.
+    // (NforCapLoneSamples), where any are in a buffer of its own submitted before it is
+    // freed.
     auto clampLayer = [&]() {
         if (o.noLoneSampleCap) return clamp(gpu.variance);
+        Image layer = NforCapLoneSamples(*in.variance, *in.color, &result.loneSamples);
+        if (result.loneSamples == 0) return clamp(gpu.variance);
         vk::GpuImage capped(context, gpu.variance.width, gpu.variance.height,
                             gpu.variance.channels, "nfor.clampLayer");
-        capped.Upload(NforCapLoneSamples(*in.variance, *in.color, &result.loneSamples));
+        capped.Upload(layer);
         clamp(capped);
         run.Submit();
     };
