@@ -12,6 +12,13 @@ namespace mcd {
 
 namespace {
 
+// Whether pixel p of `a` and pixel q of `b` hold the same bits in every channel.
+bool SameBits(const Image &a, size_t p, const Image &b, size_t q) {
+    for (int c = 0; c < a.channels; ++c)
+        if (std::memcmp(&a.Plane(c)[p], &b.Plane(c)[q], sizeof(float)) != 0) return false;
+    return true;
+}
+
 // The mean of the channels at pixel i, in double.
 double ChannelMean(const Image &image, size_t i) {
     double sum = 0;
@@ -73,28 +80,21 @@ size_t NforClampSpecks(const Image &mask, const NforSpeckSettings &s, Image *out
 std::vector<char> NforExactGround(const Image &input, const Image &clamped, const Image &mask) {
     const int w = input.width, h = input.height, channels = input.channels;
     std::vector<char> exact(input.PixelCount(), 0);
-    // Whether pixels p and q hold the same bits in every channel of `image`.
-    auto same = [&](const Image &image, const Image &other, size_t p, size_t q) {
-        for (int c = 0; c < channels; ++c)
-            if (std::memcmp(&image.Plane(c)[p], &other.Plane(c)[q], sizeof(float)) != 0)
-                return false;
-        return true;
-    };
     // Rows split among the cores: each pixel's flag reads the frame only.
     ParallelFor(std::max(h - 2, 0), size_t(w) * h * 8 * size_t(channels), [&](int y0, int y1) {
         for (int y = y0 + 1; y < y1 + 1; ++y)
             for (int x = 1; x + 1 < w; ++x) {
                 const size_t p = size_t(y) * w + x, first = p - w - 1;
-                if (mask.data[p] != 1 || !same(input, clamped, p, p)) continue;
+                if (mask.data[p] != 1 || !SameBits(input, p, clamped, p)) continue;
                 bool ground = true, lit = false;
                 for (int c = 0; c < channels; ++c) lit = lit || input.Plane(c)[first] > 0;
                 for (int v = y - 1; v <= y + 1 && ground && lit; ++v)
                     for (int u = x - 1; u <= x + 1 && ground; ++u) {
                         const size_t q = size_t(v) * w + u;
                         if (q == p) continue;
-                        ground = mask.data[q] == 1 && same(input, input, q, first);
+                        ground = mask.data[q] == 1 && SameBits(input, q, input, first);
                     }
-                exact[p] = ground && lit && !same(input, input, p, first);
+                exact[p] = ground && lit && !SameBits(input, p, input, first);
             }
     });
     return exact;
@@ -133,17 +133,14 @@ bool LoneSample(const Image &variance, const Image &color, int x, int y) {
     sigma /= color.channels;
     if (!(mean * mean < kNforLoneHits * sigma * sigma)) return false;
     double around[8];
-    int n = 0;
+    int n = 0, seen = 0;
     bool exact = true;
-    const size_t first = size_t(std::max(y - 1, 0)) * w + std::max(x - 1, 0);
+    size_t first = 0;  // the first neighbour visited: the others' colour compared with it
     ForNeighbours(w, h, x, y, [&](size_t q) {
-        double l = 0;
-        for (int c = 0; c < color.channels; ++c) {
-            l += color.Plane(c)[q];
-            exact = exact &&
-                    std::memcmp(&color.Plane(c)[q], &color.Plane(c)[first], sizeof(float)) == 0;
-        }
-        if (std::isfinite(l)) around[n++] = l / color.channels;
+        if (seen++ == 0) first = q;
+        exact = exact && SameBits(color, q, color, first);
+        const double l = ChannelMean(color, q);
+        if (std::isfinite(l)) around[n++] = l;
     });
     if (n == 0 || exact) return false;
     const double median = LowerMedian(around, n);

@@ -2809,15 +2809,16 @@ void StampLoneSample(Image *color, Image *variance, int x, int y, float v) {
 
 // The lone samples' cap against the reference. Designed: on a quiet ground an isolated lone
 // sample (capped, to its neighbours' median), two lone samples 10 apart (a caustic's: both
-// kept), one 30 from them (capped), one on an exact ground, one on a ground of 0, one whose
-// layer says many samples, one of NaN (all kept). Then frames of every kind, of one pixel,
-// one row and 3x3: the same values and count as the reference's, under a forced split too.
+// kept), one 30 from them (capped), one on an exact ground (also in the frame's corner), one
+// on a ground of 0, one whose layer says many samples, one of NaN (all kept). Then frames of
+// every kind, of one pixel, one row and 3x3: the same values and count as the reference's,
+// under a forced split too.
 TEST(NforCapLoneSamples, MatchesTheReference) {
     const int w = 80, h = 40;
     Image color(w, h, 3), variance(w, h, 3);
     QuietGround(&color, &variance, "lone samples");
     const float nan = std::numeric_limits<float>::quiet_NaN();
-    StampLoneSample(&color, &variance, 8, 8, 2300.f);   // capped
+    StampLoneSample(&color, &variance, 20, 8, 2300.f);  // capped
     StampLoneSample(&color, &variance, 40, 8, 2300.f);  // a pair 10 apart: kept
     StampLoneSample(&color, &variance, 50, 8, 2300.f);
     StampLoneSample(&color, &variance, 50, 38, 2300.f);  // 30 below the pair: capped
@@ -2828,6 +2829,10 @@ TEST(NforCapLoneSamples, MatchesTheReference) {
     StampLoneSample(&color, &variance, 70, 20, 2300.f);  // many samples: kept
     for (int c = 0; c < 3; ++c) variance.At(c, 20, 70) = 1.f;
     for (int c = 0; c < 3; ++c) color.At(c, 25, 30) = nan;  // NaN: kept
+    // The frame's first pixel on an exact ground of its three neighbours: kept.
+    StampLoneSample(&color, &variance, 0, 0, 2300.f);
+    for (auto [x, y] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{1, 1}})
+        for (int c = 0; c < 3; ++c) color.At(c, y, x) = 1.425f;
     size_t count = 0, refCount = 0;
     const Image capped = NforCapLoneSamples(variance, color, &count);
     EXPECT_EQ(capped.data, ref::NforCapLoneSamples(variance, color, kNforLoneHits,
@@ -2839,8 +2844,8 @@ TEST(NforCapLoneSamples, MatchesTheReference) {
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             if (capped.At(1, y, x) != variance.At(1, y, x)) changed.insert({x, y});
-    EXPECT_EQ(changed, (std::set<std::pair<int, int>>{{8, 8}, {50, 38}}));
-    EXPECT_LT(capped.At(1, 8, 8), 0.0021f);
+    EXPECT_EQ(changed, (std::set<std::pair<int, int>>{{20, 8}, {50, 38}}));
+    EXPECT_LT(capped.At(1, 8, 20), 0.0021f);
 
     size_t total = 0;
     for (auto [fw, fh] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{9, 1}, std::pair{3, 3}})
