@@ -1,5 +1,6 @@
 // mcd::Method: a front end by name, the parameters every method shares (demodulation, the
-// non-finite policy), `auto`, and the run around the front end: inputs, ledger, wall time.
+// non-finite policy, the kept mean), `auto`, and the run around the front end: inputs,
+// ledger, wall time.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -19,10 +20,16 @@ namespace mcd {
 
 namespace {
 
+// How far a method's output on a frame without sample statistics may move the frame's mean
+// luminance before its output is scaled back: half the 2% auto is held to
+// (docs/methods/auto.md), so that an output is not left a percent or two darker than the
+// frame. auto's nfor alone reads it too.
+constexpr float kMeanShift = 0.01f;
+
 // The parameters of mcd::Method itself, shared by every method.
 struct CommonParams {
     std::string demodulate, nonFinite = "refuse";
-    float alphaRim = 0.02f;
+    float alphaRim = 0.02f, maxMeanShift = kMeanShift;
 };
 
 std::vector<api::ParamDef<CommonParams>> CommonDefs() {
@@ -47,7 +54,16 @@ std::vector<api::ParamDef<CommonParams>> CommonDefs() {
                         "into an output without an alpha channel, nor with "
                         "--overwrite-input, which keeps the file's alpha); at most 0.2, so "
                         "an isolated covered pixel keeps a fifth of itself",
-                        &CommonParams::alphaRim, 0, 0.2)};
+                        &CommonParams::alphaRim, 0, 0.2),
+        api::FloatParam(
+            "max-mean-shift",
+            "on a frame without sample statistics (no variance layer, half-buffers, "
+            "histograms nor min/max/spp: one plain render), where a method's output moved "
+            "the frame's mean luminance by more than this fraction (its clamps took the "
+            "light of rare bright samples, which the input's mean holds), scale the output "
+            "by one factor to the input's mean; 1: keep the output as it is. auto has its "
+            "own rule (--auto-plain-mean)",
+            &CommonParams::maxMeanShift, 0, 1)};
 }
 
 // "auto", or a method of the registry; null for another name.
@@ -146,18 +162,16 @@ double MeanLuminance(const Image &image) {
 }
 
 // auto's nfor alone on a frame without statistics: where its output's mean luminance is
-// over 1% off the input's (nfor's firefly clamp took the light of a heavy-tailed frame),
-// scale it by one factor to the input's mean (--auto-plain-mean gain), or run the
-// combination instead, which restores the input's local means (combine). 1%: half the bound
-// auto is held to (2%, docs/methods/auto.md), so that an output just inside the check's
-// step is not left a percent or two darker than the frame.
+// more than kMeanShift off the input's (nfor's firefly clamp took the light of a
+// heavy-tailed frame), scale it by one factor to the input's mean (--auto-plain-mean gain),
+// or run the combination instead, which restores the input's local means (combine).
 void KeepTheMeanOfNforAlone(vk::Context &context, const api::FrontEnd &automatic,
                             const Frame &frame, bool refuseNonFinite, const RunOptions &options,
                             api::Inputs &inputs, const api::FrontEnd **method, Result *result,
                             std::vector<std::string> *plan) {
     double input = MeanLuminance(inputs.Get("color"));
     double ratio = input > 0 ? MeanLuminance(result->image) / input : 1;
-    if (std::fabs(ratio - 1) <= 0.01) return;
+    if (std::fabs(ratio - 1) <= kMeanShift) return;
     if (std::get<std::string>(automatic.Get("auto-plain-mean")) == "gain" && ratio > 0) {
         const float gain = float(1 / ratio);
         for (float &v : result->image.data) v *= gain;
@@ -177,6 +191,30 @@ void KeepTheMeanOfNforAlone(vk::Context &context, const api::FrontEnd &automatic
     api::Inputs again(frame, refuseNonFinite, automatic.Name());
     // Its warnings are the first run's (the same frame read alike): Run adds those.
     *result = api::RunTiled(context, automatic, again, options);
+}
+
+// A method run alone on a frame without sample statistics (no variance layer, half-buffers,
+// histograms nor min/max/spp) reads the noise from the frame itself, and its clamps (nfor's
+// fireflies, bayes's log domain) can take the light of a heavy-tailed frame's rare bright
+// samples. The input's mean is unbiased: where the output's mean luminance is more than `shift`
+// off it, scale the output back to it by one factor.
+void KeepTheMean(const Frame &frame, const std::string &method, float shift, Result *result) {
+    if (shift >= 1 || !frame.Has("color")) return;
+    for (const char *statistics : {"variance", "half0.color", "half1.color"})
+        if (frame.Has(statistics)) return;
+    // awr's min, max and spp, rhf's histograms: statistics too, as auto counts them.
+    for (const char *statistics : {"awr", "rhf"})
+        if (FrontEndByName(statistics)->Missing(frame).empty()) return;
+    double input = MeanLuminance(frame.Copy("color"));
+    double ratio = input > 0 ? MeanLuminance(result->image) / input : 1;
+    if (!(ratio > 0) || std::fabs(ratio - 1) <= shift) return;
+    const float gain = float(1 / ratio);
+    for (float &v : result->image.data) v *= gain;
+    result->plan.push_back(fmt::format(
+        "mean kept: {}'s output had {:.3f} of the frame's mean luminance (more than {:g} off, "
+        "on a frame without sample statistics), so it was scaled by {:.4f} to the input's "
+        "(--max-mean-shift)",
+        method, ratio, shift, gain));
 }
 
 // Pixels the renderer left fully transparent (alpha 0: the background on Blender's Film >
@@ -326,7 +364,8 @@ struct Method::Impl {
                     ErrorKind::InvalidArgument);
     }
     bool IsCommon(const std::string &name) const {
-        return name == "demodulate" || name == "non-finite" || name == "alpha-rim";
+        return name == "demodulate" || name == "non-finite" || name == "alpha-rim" ||
+               name == "max-mean-shift";
     }
 };
 
@@ -513,6 +552,9 @@ Result Method::Run(Device &device, const Frame &frame, const RunOptions &options
     cancel.ThrowIfCancelled();
     result.method = method->Name();
     result.plan.insert(result.plan.begin(), autoPlan.begin(), autoPlan.end());
+    // auto keeps the mean by its own rule (KeepTheMeanOfNforAlone) and combination.
+    if (!dynamic_cast<const api::AutoFrontEnd *>(impl->frontEnd.get()))
+        KeepTheMean(frame, method->Name(), impl->common.maxMeanShift, &result);
     if (frame.Has("alpha")) result.alpha = frame.Copy("alpha");
     KeepTransparent(frame, &result);
     // The moved alpha reaches the caller in Result::alpha or in the output's last channel.

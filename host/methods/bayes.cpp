@@ -164,22 +164,33 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
             black);
 }
 
-// Median of |x| of the pooled finest-level HH bands.
-double FinestMad(const Image &coef) {
-    int lowW = (coef.width + 1) / 2, lowH = (coef.height + 1) / 2;
-    std::vector<float> values;
-    for (int c = 0; c < coef.channels; ++c)
-        for (int y = lowH; y < coef.height; ++y)
-            for (int x = lowW; x < coef.width; ++x)
-                values.push_back(std::fabs(coef.At(c, y, x)));
+// Element n/2 of the values in order (0 when empty).
+double MedianOf(std::vector<float> &values) {
     if (values.empty()) return 0;
     auto mid = values.begin() + values.size() / 2;
     std::nth_element(values.begin(), mid, values.end());
     return *mid;
 }
 
-// |y| of the stationary transform's finest HH planes of `channels` channels (downloaded
-// alone), appended to `values`; none when level 0 does not transform both axes.
+// The MAD's sample: |y| of a finest HH coefficient, left out where it is exactly 0 (a 2x2
+// block of one value: in the log domain, black pixels at the floor). A frame mostly black at
+// a few samples per pixel would otherwise read a noise near 0 and be left as it is.
+void AddNonZero(float v, std::vector<float> *values) {
+    if (v != 0) values->push_back(std::fabs(v));
+}
+
+// Median of |x| of the pooled finest-level HH bands' non-zero values.
+double FinestMad(const Image &coef) {
+    int lowW = (coef.width + 1) / 2, lowH = (coef.height + 1) / 2;
+    std::vector<float> values;
+    for (int c = 0; c < coef.channels; ++c)
+        for (int y = lowH; y < coef.height; ++y)
+            for (int x = lowW; x < coef.width; ++x) AddNonZero(coef.At(c, y, x), &values);
+    return MedianOf(values);
+}
+
+// The non-zero |y| of the stationary transform's finest HH planes of `channels` channels
+// (downloaded alone), appended to `values`; none when level 0 does not transform both axes.
 void CollectFinestHH(const vk::GpuImage &coef, int channels, int levels,
                      std::vector<float> *values) {
     if (!shader::SwtTransformsAxis(coef.width, 0) || !shader::SwtTransformsAxis(coef.height, 0))
@@ -188,16 +199,8 @@ void CollectFinestHH(const vk::GpuImage &coef, int channels, int levels,
     for (int c = 0; c < channels; ++c) {
         size_t at =
             (size_t(c) * shader::SwtPlaneCount(levels) + shader::SwtDetailPlane(0, 2)) * plane;
-        for (float v : coef.buffer.DownloadFloats(plane, at)) values->push_back(std::fabs(v));
+        for (float v : coef.buffer.DownloadFloats(plane, at)) AddNonZero(v, values);
     }
-}
-
-// Element n/2 of the values in order (0 when empty): FinestMad's median.
-double MedianOf(std::vector<float> &values) {
-    if (values.empty()) return 0;
-    auto mid = values.begin() + values.size() / 2;
-    std::nth_element(values.begin(), mid, values.end());
-    return *mid;
 }
 
 // Scale each channel of result->image to the mean of color's finite non-negative values.
@@ -673,10 +676,11 @@ std::vector<float> BandNoise(StagedRun &run, BayesGpu &gpu, const Image &color,
         }
         double finest = BayesScaleFromMad(mad, options.pn);
         *sn = float(finest / options.hpFactor);
-        run.Plan(fmt::format(
-            "--noise auto: finest HH bands' median |y| {:.4g} -> finest-level s {:.4g} "
-            "(p_n {}) -> s_n {:.4g}",
-            mad, finest, options.pn, *sn));
+        run.Plan(
+            fmt::format("--noise auto: finest HH bands' median non-zero |y| {:.4g} -> "
+                        "finest-level s {:.4g} "
+                        "(p_n {}) -> s_n {:.4g}",
+                        mad, finest, options.pn, *sn));
     }
     return FixedBandNoise(bands, levels, *sn, options.hpFactor);
 }

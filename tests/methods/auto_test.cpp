@@ -1279,7 +1279,8 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     EXPECT_TRUE(PlanHas(result, "left out pivot k0: a variant"));
     // The methods auto runs that the frame allows (bayes and pivot; not nfor, weighed by the
     // half-buffers only, nor awr, which runs where named), with their own defaults (auto's
-    // settings are for weighed candidates): their plain mean, to the float sums' rounding.
+    // settings are for weighed candidates; a candidate keeps no mean of its own): their
+    // plain mean, to the float sums' rounding.
     EXPECT_TRUE(PlanHas(result, "left out nfor: weighed by the half-buffers' estimate only"));
     EXPECT_TRUE(PlanHas(result, "pivot candidates: --pivot-range at the method's own default"));
     // The shading-edge test too: pivot's own --pivot-edge runs under mean
@@ -1289,8 +1290,11 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     for (const api::MethodEntry &m : api::Registry())
         if (!m.variants.empty() &&
             (m.variants.front().estimates & api::AutoVariant::kVariance) &&
-            m.variants.front().byDefault && Method(m.name).Missing(frame).empty())
-            outputs.push_back(WithoutLocalMeans(Method(m.name)).Run(device, frame).image);
+            m.variants.front().byDefault && Method(m.name).Missing(frame).empty()) {
+            Method candidate = WithoutLocalMeans(Method(m.name));
+            candidate.Set("max-mean-shift", 1.f);
+            outputs.push_back(candidate.Run(device, frame).image);
+        }
     ASSERT_EQ(outputs.size(), 2u);
     for (size_t i = 0; i < result.image.data.size(); ++i) {
         double mean = 0, scale = 0;
@@ -1597,6 +1601,13 @@ double MeanLuminanceOf(const Image &image) {
     return sum;
 }
 
+// nfor as it runs inside auto: its output without the common kept mean (--max-mean-shift 1).
+Method NforUnkept() {
+    Method nfor("nfor");
+    nfor.Set("max-mean-shift", 1.f);
+    return nfor;
+}
+
 // A heavy-tailed frame without statistics: nfor's firefly clamp takes much of its light, so
 // auto scales nfor's output by one factor to the input's mean luminance (within 1%, the
 // bound it checks nfor's output against), every value alike; with --auto-plain-mean combine
@@ -1607,7 +1618,7 @@ TEST_F(AutoMethod, FrameWithoutStatisticsWhoseMeanNforMovesIsScaledBack) {
         {"variance", "direct.variance", "indirect.variance", "min", "max"});
     Device device = api::BorrowDevice(Ctx());
     double input = MeanLuminanceOf(frame.layers.at("color"));
-    Image alone = Method("nfor").Run(device, frame).image;
+    Image alone = NforUnkept().Run(device, frame).image;
     double nfor = MeanLuminanceOf(alone) / input;
     Result result = Method("auto").Run(device, frame);
     double automatic = MeanLuminanceOf(result.image) / input;
@@ -1635,6 +1646,42 @@ TEST_F(AutoMethod, FrameWithoutStatisticsWhoseMeanNforMovesIsScaledBack) {
     EXPECT_NEAR(MeanLuminanceOf(combined.image) / input, 1, 0.02);
 }
 
+// The same rule for a method run alone (--max-mean-shift, every method's): on the
+// heavy-tailed frame without statistics nfor's output is scaled by one factor to the input's
+// mean luminance and the plan says so; with 1 it keeps its output; beside a variance layer
+// (the same render with its layers) the rule does not run, bit for bit.
+TEST_F(AutoMethod, MethodAloneOnAFrameWithoutStatisticsKeepsItsMean) {
+    auto [full, reference] = RenderWithReference(
+        "relief-abc", 48, 40, 16, render::kLayersGbuffer | render::kLayersSplit, 16);
+    Frame frame = full;
+    for (const char *layer :
+         {"variance", "direct.variance", "indirect.variance", "min", "max", "spp"})
+        frame.layers.erase(layer);
+    Device device = api::BorrowDevice(Ctx());
+    const double input = MeanLuminanceOf(frame.layers.at("color"));
+    Image unkept = NforUnkept().Run(device, frame).image;
+    const double ratio = MeanLuminanceOf(unkept) / input;
+    ASSERT_LT(ratio, 0.97) << "the frame no longer shows what the rule is for";
+    Result kept = Method("nfor").Run(device, frame);
+    EXPECT_TRUE(PlanHas(kept, "mean kept: nfor's output had"))
+        << fmt::format("{}", fmt::join(kept.plan, "\n"));
+    EXPECT_NEAR(MeanLuminanceOf(kept.image) / input, 1, 1e-4);
+    const float gain = float(1 / ratio);
+    ASSERT_EQ(unkept.data.size(), kept.image.data.size());
+    for (size_t i = 0; i < unkept.data.size(); ++i)
+        ASSERT_NEAR(kept.image.data[i], unkept.data[i] * gain,
+                    1e-6f * std::fabs(unkept.data[i] * gain))
+            << "value " << i;
+    // A bound above the shift keeps the output as it is.
+    Method loose("nfor");
+    loose.Set("max-mean-shift", float(1.5 * (1 - ratio)));
+    EXPECT_EQ(loose.Run(device, frame).image.data, unkept.data);
+    // Beside a variance layer the method reads the layer's noise: no rule.
+    Result layered = Method("nfor").Run(device, full);
+    EXPECT_FALSE(PlanHas(layered, "mean kept:"));
+    EXPECT_EQ(layered.image.data, NforUnkept().Run(device, full).image.data);
+}
+
 // The bound is 1%, half auto's own (2%): on glossy-cornell with colour and depth only nfor
 // alone keeps 0.97-0.98 of the input's mean luminance, on fireflies with the ordinary passes
 // 0.98-0.99 (a frame the 2% step left darker than its input); auto scales both back.
@@ -1656,7 +1703,7 @@ TEST_F(AutoMethod, NforAloneMovingTheMeanByOverOnePercentIsScaledBack) {
         auto [frame, reference] =
             RenderWithReference(c.scene, 128, 128, 16, render::kLayersGbuffer, 1, c.drop);
         const double input = MeanLuminanceOf(frame.layers.at("color"));
-        const double nfor = MeanLuminanceOf(Method("nfor").Run(device, frame).image) / input;
+        const double nfor = MeanLuminanceOf(NforUnkept().Run(device, frame).image) / input;
         Result result = Method("auto").Run(device, frame);
         const double automatic = MeanLuminanceOf(result.image) / input;
         fmt::print("{}: mean over the input's: nfor {:.4f}, auto {:.4f}\n", c.scene, nfor,

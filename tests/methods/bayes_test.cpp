@@ -972,6 +972,41 @@ TEST_F(BayesKernel, NoiseAutoSpinsShareOneEstimate) {
     EXPECT_TRUE(ImagesMatch(cpu, gpu.image, {}, {0, 2e-3, 1e-4}));
 }
 
+// --noise mad on a frame mostly black (exact zeros, as a few samples per pixel leave a dark
+// scene): in the log domain its zeros sit at the floor and their finest coefficients are
+// exactly 0, which the median leaves out, so the estimate is the noisy part's. Counted, they
+// are over half the sample and the noise reads 0: the frame comes back as it went in. Both
+// transforms; the noisy part alone (the same pixels, 16 wide) gives the reference estimate.
+TEST_F(BayesKernel, NoiseMadLeavesOutTheBlackPixelsExactZeros) {
+    const int w = 64, h = 24, part = 16;
+    Image noisy = NoisyPicture(part, h, SeedFromName("mad zeros"), 0.3);
+    Image frame(w, h, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < part; ++x) frame.At(c, y, w - part + x) = noisy.At(c, y, x);
+    for (const char *transform : {"dwt", "swt"}) {
+        SCOPED_TRACE(transform);
+        BayesParams options = PaperBayesParams();
+        options.noise = BayesNoise::Mad;
+        options.transform =
+            std::string(transform) == "swt" ? BayesTransform::Swt : BayesTransform::Dwt;
+        const float alone = BayesDenoise(Ctx(), noisy, options).sn;
+        BayesResult mixed = BayesDenoise(Ctx(), frame, options);
+        fmt::print("{}: s_n {:.4g} on the frame, {:.4g} on its noisy part\n", transform,
+                   mixed.sn, alone);
+        ASSERT_GT(alone, 0.05f);
+        EXPECT_GT(mixed.sn, 0.6f * alone);
+        EXPECT_LT(mixed.sn, 1.6f * alone);
+        // The noisy part is denoised: its pixels move.
+        double moved = 0;
+        for (int c = 0; c < 3; ++c)
+            for (int y = 0; y < h; ++y)
+                for (int x = w - part; x < w; ++x)
+                    moved += std::fabs(mixed.image.At(c, y, x) - frame.At(c, y, x));
+        EXPECT_GT(moved / (3 * h * part), 0.02);
+    }
+}
+
 // The mix kernel: three products and two sums in float per output, so within 4 u of
 // sum |m_ij| |v_j|; forward then inverse gives the input back within twice that.
 class BayesMixKernel : public BayesKernel {};
