@@ -1601,6 +1601,15 @@ double MeanLuminanceOf(const Image &image) {
     return sum;
 }
 
+// One factor: each value of `scaled` that of `unscaled` times `gain`, to a float rounding.
+void ExpectScaledByOneFactor(const Image &unscaled, const Image &scaled, float gain) {
+    ASSERT_EQ(unscaled.data.size(), scaled.data.size());
+    for (size_t i = 0; i < unscaled.data.size(); ++i)
+        ASSERT_NEAR(scaled.data[i], unscaled.data[i] * gain,
+                    1e-6f * std::fabs(unscaled.data[i] * gain))
+            << "value " << i;
+}
+
 // nfor as it runs inside auto: its output without the common kept mean (--max-mean-shift 1).
 Method NforUnkept() {
     Method nfor("nfor");
@@ -1628,13 +1637,7 @@ TEST_F(AutoMethod, FrameWithoutStatisticsWhoseMeanNforMovesIsScaledBack) {
         << fmt::format("{}", fmt::join(result.plan, "\n"));
     EXPECT_EQ(result.method, "nfor");
     EXPECT_NEAR(automatic, 1, 1e-4);
-    // One factor: each value nfor's times the same gain, to a float rounding.
-    const float gain = float(1 / nfor);
-    ASSERT_EQ(alone.data.size(), result.image.data.size());
-    for (size_t i = 0; i < alone.data.size(); ++i)
-        ASSERT_NEAR(result.image.data[i], alone.data[i] * gain,
-                    1e-6f * std::fabs(alone.data[i] * gain))
-            << "value " << i;
+    ExpectScaledByOneFactor(alone, result.image, float(1 / nfor));
 
     Method combine("auto");
     combine.Set("auto-plain-mean", std::string("combine"));
@@ -1666,12 +1669,7 @@ TEST_F(AutoMethod, MethodAloneOnAFrameWithoutStatisticsKeepsItsMean) {
     EXPECT_TRUE(PlanHas(kept, "mean kept: nfor's output had"))
         << fmt::format("{}", fmt::join(kept.plan, "\n"));
     EXPECT_NEAR(MeanLuminanceOf(kept.image) / input, 1, 1e-4);
-    const float gain = float(1 / ratio);
-    ASSERT_EQ(unkept.data.size(), kept.image.data.size());
-    for (size_t i = 0; i < unkept.data.size(); ++i)
-        ASSERT_NEAR(kept.image.data[i], unkept.data[i] * gain,
-                    1e-6f * std::fabs(unkept.data[i] * gain))
-            << "value " << i;
+    ExpectScaledByOneFactor(unkept, kept.image, float(1 / ratio));
     // A bound above the shift keeps the output as it is.
     Method loose("nfor");
     loose.Set("max-mean-shift", float(1.5 * (1 - ratio)));
