@@ -57,7 +57,8 @@ class Bayes : public FrontEndOf<BayesSettings> {
                Nested(&BayesSettings::method,
                       EnumParam("noise",
                                 "fixed (use --sn/--pn), mad (s from the median absolute finest "
-                                "HH coefficient), variance (s per band from the variance "
+                                "HH coefficient, those exactly 0 left out: black pixels at the "
+                                "log floor), variance (s per band from the variance "
                                 "layer) or auto (variance when the frame has the layer, else "
                                 "mad); shape --pn",
                                 &BayesParams::noise,
@@ -278,8 +279,8 @@ class Bayes : public FrontEndOf<BayesSettings> {
         }
         if (noise == BayesNoise::Auto)
             plan->push_back(
-                "--noise auto: no variance layer: noise from the finest band's median |y| "
-                "(--noise mad)");
+                "--noise auto: no variance layer: noise from the finest band's median "
+                "non-zero |y| (--noise mad)");
         return nullptr;
     }
 

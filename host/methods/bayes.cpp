@@ -678,8 +678,7 @@ std::vector<float> BandNoise(StagedRun &run, BayesGpu &gpu, const Image &color,
         *sn = float(finest / options.hpFactor);
         run.Plan(
             fmt::format("--noise auto: finest HH bands' median non-zero |y| {:.4g} -> "
-                        "finest-level s {:.4g} "
-                        "(p_n {}) -> s_n {:.4g}",
+                        "finest-level s {:.4g} (p_n {}) -> s_n {:.4g}",
                         mad, finest, options.pn, *sn));
     }
     return FixedBandNoise(bands, levels, *sn, options.hpFactor);
