@@ -161,6 +161,12 @@ double MeanLuminance(const Image &image) {
     return count ? sum / count : 0;
 }
 
+// The output's mean luminance over the input's (1 where the input's is not above 0).
+double MeanRatio(const Image &input, const Image &output) {
+    const double mean = MeanLuminance(input);
+    return mean > 0 ? MeanLuminance(output) / mean : 1;
+}
+
 // auto's nfor alone on a frame without statistics: where its output's mean luminance is
 // more than kMeanShift off the input's (nfor's firefly clamp took the light of a
 // heavy-tailed frame), scale it by one factor to the input's mean (--auto-plain-mean gain),
@@ -169,8 +175,7 @@ void KeepTheMeanOfNforAlone(vk::Context &context, const api::FrontEnd &automatic
                             const Frame &frame, bool refuseNonFinite, const RunOptions &options,
                             api::Inputs &inputs, const api::FrontEnd **method, Result *result,
                             std::vector<std::string> *plan) {
-    double input = MeanLuminance(inputs.Get("color"));
-    double ratio = input > 0 ? MeanLuminance(result->image) / input : 1;
+    const double ratio = MeanRatio(inputs.Get("color"), result->image);
     if (std::fabs(ratio - 1) <= kMeanShift) return;
     if (std::get<std::string>(automatic.Get("auto-plain-mean")) == "gain" && ratio > 0) {
         const float gain = float(1 / ratio);
@@ -199,14 +204,10 @@ void KeepTheMeanOfNforAlone(vk::Context &context, const api::FrontEnd &automatic
 // samples. The input's mean is unbiased: where the output's mean luminance is more than `shift`
 // off it, scale the output back to it by one factor.
 void KeepTheMean(const Frame &frame, const std::string &method, float shift, Result *result) {
-    if (shift >= 1 || !frame.Has("color")) return;
-    for (const char *statistics : {"variance", "half0.color", "half1.color"})
-        if (frame.Has(statistics)) return;
-    // awr's min, max and spp, rhf's histograms: statistics too, as auto counts them.
-    for (const char *statistics : {"awr", "rhf"})
-        if (FrontEndByName(statistics)->Missing(frame).empty()) return;
-    double input = MeanLuminance(frame.Copy("color"));
-    double ratio = input > 0 ? MeanLuminance(result->image) / input : 1;
+    if (shift >= 1 || !frame.Has("color") ||
+        !api::SampleStatistics(frame, *FrontEndByName("awr"), *FrontEndByName("rhf")).empty())
+        return;
+    const double ratio = MeanRatio(frame.Copy("color"), result->image);
     if (!(ratio > 0) || std::fabs(ratio - 1) <= shift) return;
     const float gain = float(1 / ratio);
     for (float &v : result->image.data) v *= gain;

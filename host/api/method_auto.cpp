@@ -1542,15 +1542,21 @@ std::vector<Stage> AutoFrontEnd::Reference(vk::Context &, Inputs &) const {
     throw Error("auto: pick a method first", ErrorKind::Internal);
 }
 
+std::string SampleStatistics(const Frame &frame, const FrontEnd &awr, const FrontEnd &rhf) {
+    for (const char *layer : {"variance", "half0.color", "half1.color"})
+        if (frame.Has(layer)) return fmt::format("the frame has {}", layer);
+    for (const FrontEnd *method : {&awr, &rhf})
+        if (method->Missing(frame).empty())
+            return fmt::format("the frame has {}'s statistics", method->Name());
+    return "";
+}
+
 std::string AutoFrontEnd::WhyNotNforAlone(const Frame &frame) const {
     if (options.plain != "nfor") return "--auto-plain combine";
     if (options.noise != "auto") return fmt::format("--auto-noise {}", options.noise);
     if (options.combine == "mean") return "--auto-combine mean";
-    for (const char *layer : {"variance", "half0.color", "half1.color"})
-        if (frame.Has(layer)) return fmt::format("the frame has {}", layer);
-    for (const char *statistics : {"awr", "rhf"})
-        if (Base(statistics).Missing(frame).empty())
-            return fmt::format("the frame has {}'s statistics", statistics);
+    if (std::string has = SampleStatistics(frame, Base("awr"), Base("rhf")); !has.empty())
+        return has;
     if (std::string lacks = Base("nfor").Missing(frame); !lacks.empty()) return lacks;
     return "";
 }

@@ -181,4 +181,9 @@ class AutoFrontEnd : public FrontEnd {
     Options options;
 };
 
+// The frame's sample statistics as auto counts them (a variance layer, half-buffers, awr's
+// min/max/spp, rhf's histograms): the first found, said ("the frame has variance"), or ""
+// where it has none. `awr` and `rhf`: their front ends, which say what a frame lacks.
+std::string SampleStatistics(const Frame &frame, const FrontEnd &awr, const FrontEnd &rhf);
+
 }  // namespace mcd::api

@@ -477,7 +477,8 @@ void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforO
     // freed.
     auto clampLayer = [&]() {
         if (o.noLoneSampleCap) return clamp(gpu.variance);
-        Image layer = NforCapLoneSamples(*in.variance, *in.color, &result.loneSamples);
+        Image layer;
+        result.loneSamples = NforCapLoneSamples(*in.variance, *in.color, &layer);
         if (result.loneSamples == 0) return clamp(gpu.variance);
         vk::GpuImage capped(context, gpu.variance.width, gpu.variance.height,
                             gpu.variance.channels, "nfor.clampLayer");

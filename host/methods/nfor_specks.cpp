@@ -149,7 +149,7 @@ bool LoneSample(const Image &variance, const Image &color, int x, int y) {
 
 }  // namespace
 
-Image NforCapLoneSamples(const Image &variance, const Image &color, size_t *count) {
+size_t NforCapLoneSamples(const Image &variance, const Image &color, Image *capped) {
     const int w = color.width, h = color.height;
     // Lone-sample flags, and their counts summed over the rectangle above and left of each
     // place (a summed-area table, (w + 1) x (h + 1)).
@@ -159,6 +159,7 @@ Image NforCapLoneSamples(const Image &variance, const Image &color, size_t *coun
             for (int x = 0; x < w; ++x)
                 lone[size_t(y) * w + x] = LoneSample(variance, color, x, y);
     });
+    if (std::find(lone.begin(), lone.end(), 1) == lone.end()) return 0;
     std::vector<int> table(size_t(w + 1) * (h + 1), 0);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
@@ -173,12 +174,12 @@ Image NforCapLoneSamples(const Image &variance, const Image &color, size_t *coun
         return table[size_t(y1) * (w + 1) + x1] - table[size_t(y0) * (w + 1) + x1] -
                table[size_t(y1) * (w + 1) + x0] + table[size_t(y0) * (w + 1) + x0];
     };
-    Image capped = variance;
     size_t changed = 0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const size_t p = size_t(y) * w + x;
             if (!lone[p] || within(x, y) != 1) continue;
+            if (changed++ == 0) *capped = variance;
             for (int c = 0; c < variance.channels; ++c) {
                 float around[8];
                 int n = 0;
@@ -187,12 +188,10 @@ Image NforCapLoneSamples(const Image &variance, const Image &color, size_t *coun
                     if (std::isfinite(value)) around[n++] = value;
                 });
                 if (n > 0)
-                    capped.Plane(c)[p] = std::min(capped.Plane(c)[p], LowerMedian(around, n));
+                    capped->Plane(c)[p] = std::min(capped->Plane(c)[p], LowerMedian(around, n));
             }
-            ++changed;
         }
-    if (count) *count = changed;
-    return capped;
+    return changed;
 }
 
 }  // namespace mcd

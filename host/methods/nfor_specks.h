@@ -57,7 +57,9 @@ constexpr int kNforLoneReach = 15;
 // (non-finite ones skipped), so the clamp reads the quiet ground's noise there; a caustic's
 // lone samples, near each other, keep theirs. A pixel whose neighbours' colour is the same
 // bit for bit (an exact ground: every sample saw the same, so a light there is coverage)
-// or whose neighbours' median is 0 is no lone sample. `count`: the pixels capped.
-Image NforCapLoneSamples(const Image &variance, const Image &color, size_t *count);
+// or whose neighbours' median is 0 is no lone sample. Returns the pixels capped; `capped`
+// gets the capped layer where any was and is left as it is where none was (most frames: no
+// copy of the layer).
+size_t NforCapLoneSamples(const Image &variance, const Image &color, Image *capped);
 
 }  // namespace mcd
