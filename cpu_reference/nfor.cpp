@@ -898,7 +898,8 @@ void RestoreClampLight(const NforInputs &in, const NforParams &p, bool plain,
     keep("clamp.light", *out);
     if (p.rareLightShare > 0) {
         NforSpreadRareLight(*in.color, clamped, near, p.rareLightShare, p.rareLightRatio,
-                            p.rareLightSigma, p.rareLightRadius, p.rareLightPair, out);
+                            p.rareLightSigma, p.rareLightRadius, p.rareLightPair,
+                            p.rareLightOthers, out);
         keep("rare", *out);
     }
 }

@@ -7,7 +7,7 @@ namespace mcd::ref {
 
 size_t NforSpreadRareLight(const Image &color, const Image &clamped,
                            const std::vector<char> &near, double share, double ratio,
-                           double sigma, int radius, int pair, Image *output) {
+                           double sigma, int radius, int pair, int others, Image *output) {
     const int w = color.width, h = color.height;
     std::vector<double> g(2 * radius + 1);
     double total = 0;
@@ -28,11 +28,11 @@ size_t NforSpreadRareLight(const Image &color, const Image &clamped,
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             if (!isCut(y, x)) continue;
-            int others = 0;
+            int count = 0;
             for (int v = std::max(0, y - pair); v <= std::min(h - 1, y + pair); ++v)
                 for (int u = std::max(0, x - pair); u <= std::min(w - 1, x + pair); ++u)
-                    others += (v != y || u != x) && isCut(v, u);
-            if (others == 0) continue;
+                    count += (v != y || u != x) && isCut(v, u);
+            if (count < others) continue;
             ++sources;
             for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v)
                 for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius); ++u) {

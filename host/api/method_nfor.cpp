@@ -325,9 +325,9 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
             "rare-light-share",
             "on a frame without a variance layer, where the clamp's light is restored, after "
             "it: a pixel the firefly clamp cut to under 1 / --rare-light-ratio of its colour, "
-            "with another such within 16 pixels (rare bright samples: a glossy floor's "
-            "reflection of a "
-            "light that few samples hit; a lone one is a firefly), gives this share of the "
+            "with others such near it (--rare-light-pair; rare bright samples: a glossy "
+            "floor's reflection of a light that few samples hit; a lone one is a firefly), "
+            "gives this share of the "
             "light the clamp took to the pixels around it, a Gaussian of 2 pixels, none "
             "within --clamp-light-reach of an emitter or a partly covered pixel; 0: off",
             &O::rareLightShare, 0, 1)),
@@ -335,6 +335,15 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "--rare-light-share's cut: a pixel's colour over its clamped colour "
                           "(the channels' sums) above this",
                           &O::rareLightRatio, 1, 1e6)),
+        nested(IntParam("rare-light-pair",
+                        "--rare-light-share's source has --rare-light-others more cut pixels "
+                        "within this many pixels (a reflection's footprint holds its hits "
+                        "close together; hits scattered thinly, as a caustic's over a floor, "
+                        "would each become a blob)",
+                        &O::rareLightPair, 1, kNforRarePair)),
+        nested(IntParam("rare-light-others",
+                        "the cut pixels within --rare-light-pair a source needs besides itself",
+                        &O::rareLightOthers, 1, 1088)),
         nested(IntParam(
             "glint-band-radius",
             "on a frame without a variance layer, last: within 16 pixels of a glint (an albedo "
@@ -575,7 +584,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             o.meanRadius > 0 && o.clampLightRadius > 0 && !passesOff
                 ? std::max(4 * o.clampLightRadius + 4 * o.clampLightFine + o.clampLightReach,
                            o.rareLightShare > 0
-                               ? kNforRareRadius + kNforRarePair + o.clampLightReach
+                               ? kNforRareRadius + o.rareLightPair + o.clampLightReach
                                : 0)
                 : 0;
         const int fineReach = needs.reach + clampLightReach;

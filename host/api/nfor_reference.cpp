@@ -56,6 +56,8 @@ ref::NforParams NforReferenceParams(const NforOptions &o,
     p.clampLightNoise = kClampLightNoise;
     p.rareLightShare = o.rareLightShare;
     p.rareLightRatio = o.rareLightRatio;
+    p.rareLightPair = o.rareLightPair;
+    p.rareLightOthers = o.rareLightOthers;
     p.glintBandRadius = o.glintBandRadius;
     const NforGlintBandSettings band;
     p.glintBandSigma = band.sigma;

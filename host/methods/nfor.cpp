@@ -178,7 +178,8 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.albedoNoise) && o.albedoNoise >= 0) ||
         !(finite(o.glintNoise) && o.glintNoise >= 0) ||
         !(o.rareLightShare >= 0 && o.rareLightShare <= 1) ||
-        !(finite(o.rareLightRatio) && o.rareLightRatio >= 1) ||
+        !(finite(o.rareLightRatio) && o.rareLightRatio >= 1) || o.rareLightOthers < 1 ||
+        o.rareLightPair < 1 || o.rareLightPair > kNforRarePair ||
         !(o.rimRatio == 0 || (finite(o.rimRatio) && o.rimRatio > 1)) || o.glintBandRadius < 0 ||
         o.glintBandRadius >= kNforGlintBandReach)
         throw Error(
@@ -1095,13 +1096,15 @@ void SpreadRareLight(StagedRun &run, const NforInputs &in, const NforOptions &o,
     NforRareLightSettings s;
     s.share = o.rareLightShare;
     s.ratio = o.rareLightRatio;
+    s.pair = o.rareLightPair;
+    s.others = o.rareLightOthers;
     const size_t sources = NforSpreadRareLight(*in.color, clamped, near, s, &result.image);
     run.AddStage("rare", result.image);
     run.Plan(fmt::format(
         "rare light: {} pixels the firefly clamp cut to under 1/{} of their colour, each "
-        "with another such within {} (away from emitters and partly covered pixels), gave "
+        "with {} more such within {} (away from emitters and partly covered pixels), gave "
         "{} of the light it took to the pixels around them, a Gaussian of {} pixels",
-        sources, s.ratio, s.pair, s.share, s.sigma));
+        sources, s.ratio, s.others, s.pair, s.share, s.sigma));
 }
 
 // After the local means, the colour's own (the clamp's light back) over the tents of

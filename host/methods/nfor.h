@@ -16,6 +16,7 @@
 
 #include "host/image.h"
 #include "host/methods/nfor_lights.h"
+#include "host/methods/nfor_rare.h"
 #include "host/methods/staged_run.h"
 #include "host/vk/context.h"
 #include "nfor/glint.h"
@@ -194,6 +195,9 @@ struct NforOptions {
     // (host/methods/nfor_rare.h); 0: off. The method's API sets it on frames without a
     // variance layer only.
     float rareLightShare = 0.4f, rareLightRatio = 40;
+    // A source has at least rareLightOthers more such pixels within rareLightPair.
+    int rareLightPair = NforRareLightSettings{}.pair;
+    int rareLightOthers = NforRareLightSettings{}.others;
     // On a frame without a variance layer, last: within kNforGlintReach of a glint (an
     // albedo channel above kNforGlintAlbedo) each pixel that is no emitter moves towards the
     // output's mean along its line, over this many samples each side

@@ -12,10 +12,11 @@ size_t NforSpreadRareLight(const Image &color, const Image &clamped,
                            Image *output) {
     const int w = color.width, h = color.height, channels = color.channels;
     if (!color.SameShape(clamped) || !color.SameShape(*output) ||
-        near.size() != color.PixelCount() || s.radius < 0 || !(s.sigma > 0))
+        near.size() != color.PixelCount() || s.radius < 0 || !(s.sigma > 0) || s.others < 1 ||
+        s.pair < 1 || s.pair > kNforRarePair)
         throw Error(
             "NforSpreadRareLight: images of one shape, one flag per pixel, a radius "
-            ">= 0 and a sigma > 0",
+            ">= 0, a sigma > 0, a pair in 1..kNforRarePair and others >= 1",
             ErrorKind::Internal);
     const int r = s.radius;
     // The pixels the clamp cut to under 1 / ratio, away from `near`.
@@ -29,20 +30,20 @@ size_t NforSpreadRareLight(const Image &color, const Image &clamped,
         }
         cut[i] = std::isfinite(a) && a > 0 && a > s.ratio * b;
     }
-    // A lone one is a firefly, its light kept out: a source has another within s.pair (a
-    // reflection's footprint holds several hits). Its lost light, 0 elsewhere.
+    // A lone one is a firefly, its light kept out: a source has s.others more within s.pair
+    // (a reflection's footprint holds several hits). Its lost light, 0 elsewhere.
     Image loss(w, h, channels);
     size_t sources = 0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             if (!cut[size_t(y) * w + x]) continue;
-            bool paired = false;
-            for (int v = std::max(0, y - s.pair); v <= std::min(h - 1, y + s.pair) && !paired;
-                 ++v)
+            int others = 0;
+            for (int v = std::max(0, y - s.pair);
+                 v <= std::min(h - 1, y + s.pair) && others < s.others; ++v)
                 for (int u = std::max(0, x - s.pair);
-                     u <= std::min(w - 1, x + s.pair) && !paired; ++u)
-                    paired = (v != y || u != x) && cut[size_t(v) * w + u];
-            if (!paired) continue;
+                     u <= std::min(w - 1, x + s.pair) && others < s.others; ++u)
+                    others += (v != y || u != x) && cut[size_t(v) * w + u];
+            if (others < s.others) continue;
             ++sources;
             for (int c = 0; c < channels; ++c)
                 loss.At(c, y, x) = std::max(color.At(c, y, x) - clamped.At(c, y, x), 0.f);

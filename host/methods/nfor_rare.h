@@ -19,10 +19,15 @@ struct NforRareLightSettings {
     float ratio = 40;    // a source's colour over its clamped colour (channels' sums)
     float sigma = 2;     // the Gaussian's scale in pixels
     int radius = 6;      // the Gaussian's reach (a square of 2 radius + 1), weights to sum 1
-    int pair = 16;       // a cut pixel with another within this (Chebyshev) is a source
+    // A source: a cut pixel with at least `others` more within `pair` (Chebyshev). A
+    // reflection's footprint holds its hits close together; hits scattered thinly (a
+    // caustic's over a whole floor) are each as lone as a firefly, and the Gaussian would
+    // draw a blob at each.
+    int pair = 6;
+    int others = 2;
 };
 // What a tiled run's halo holds for the pass: the Gaussian's reach
-// (NforRareLightSettings::radius) and a source's pairing distance (pair).
+// (NforRareLightSettings::radius) and the largest pairing distance (pair) it takes.
 constexpr int kNforRareRadius = 6, kNforRarePair = 16;
 
 // Each pixel of `output` not flagged in `near` (one flag per pixel: within the clamp's
@@ -30,7 +35,8 @@ constexpr int kNforRareRadius = 6, kNforRarePair = 16;
 // (normalised over its full square, so that a tile's run gives the same bits) of the
 // sources' lost light, per channel max(color - clamped, 0); a source is a pixel not in
 // `near` whose channels' mean in `color` is positive and above ratio x that in `clamped`,
-// with another such pixel within `pair` (Chebyshev): a lone one is a firefly.
+// with at least `others` more such pixels within `pair` (Chebyshev, at most kNforRarePair):
+// a lone one is a firefly.
 // Returns how many sources gave; 0 leaves `output` as it was, bit for bit.
 size_t NforSpreadRareLight(const Image &color, const Image &clamped,
                            const std::vector<char> &near, const NforRareLightSettings &settings,

@@ -2500,33 +2500,39 @@ TEST(NforSpecks, HoldsASpeckOnAFlatGroundToTheTighterBound) {
 }
 
 // The rare light's spread against its reference: fireflies cut to a 50th by a clamp,
-// `near` flags in stripes, frames of one pixel and one row; the same sources, the same
-// output to round-off; some give, and the lone ones of the sparse frame do not.
+// `near` flags in stripes, frames of one pixel and one row, the defaults' pairing and one
+// other within 16; the same sources, the same output to round-off; some give, and the lone
+// ones of the sparse frame do not.
 TEST(NforRareLight, MatchesTheReference) {
     size_t given = 0;
+    NforRareLightSettings loose;
+    loose.pair = 16;
+    loose.others = 1;
     for (auto [w, h] : {std::pair{41, 37}, std::pair{1, 1}, std::pair{23, 1}})
-        for (int every : {3, 61}) {
-            std::string name = fmt::format("rare {}x{} every {}", w, h, every);
-            uint64_t seed = SeedFromName(name);
-            Image color = MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3, seed);
-            Image clamped = color;
-            for (size_t i = seed % 5; i < color.PixelCount(); i += every)
-                for (int c = 0; c < 3; ++c) clamped.Plane(c)[i] = color.Plane(c)[i] * 0.02f;
-            std::vector<char> near(color.PixelCount());
-            for (size_t i = 0; i < near.size(); ++i) near[i] = (i / 7) % 5 == 0;
-            Image output = MakeVarianceInput(InputKind::Uniform, w, h, 3, seed + 1);
-            Image host = output, cpu = output;
-            NforRareLightSettings s;
-            const size_t count = NforSpreadRareLight(color, clamped, near, s, &host);
-            EXPECT_EQ(count, ref::NforSpreadRareLight(color, clamped, near, s.share, s.ratio,
-                                                      s.sigma, s.radius, s.pair, &cpu))
-                << name;
-            EXPECT_TRUE(ImagesMatch(cpu, host, {}, {4 * kU, 0, 1e-12})) << name;
-            if (count == 0) {
-                EXPECT_EQ(host.data, output.data) << name;
+        for (int every : {3, 61})
+            for (const NforRareLightSettings &s : {NforRareLightSettings{}, loose}) {
+                std::string name = fmt::format("rare {}x{} every {} pair {} others {}", w, h,
+                                               every, s.pair, s.others);
+                uint64_t seed = SeedFromName(name);
+                Image color = MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3, seed);
+                Image clamped = color;
+                for (size_t i = seed % 5; i < color.PixelCount(); i += every)
+                    for (int c = 0; c < 3; ++c) clamped.Plane(c)[i] = color.Plane(c)[i] * 0.02f;
+                std::vector<char> near(color.PixelCount());
+                for (size_t i = 0; i < near.size(); ++i) near[i] = (i / 7) % 5 == 0;
+                Image output = MakeVarianceInput(InputKind::Uniform, w, h, 3, seed + 1);
+                Image host = output, cpu = output;
+                const size_t count = NforSpreadRareLight(color, clamped, near, s, &host);
+                EXPECT_EQ(count,
+                          ref::NforSpreadRareLight(color, clamped, near, s.share, s.ratio,
+                                                   s.sigma, s.radius, s.pair, s.others, &cpu))
+                    << name;
+                EXPECT_TRUE(ImagesMatch(cpu, host, {}, {4 * kU, 0, 1e-12})) << name;
+                if (count == 0) {
+                    EXPECT_EQ(host.data, output.data) << name;
+                }
+                given += count;
             }
-            given += count;
-        }
     EXPECT_GT(given, 0u);
 }
 
@@ -2535,7 +2541,8 @@ TEST(NforRareLight, MatchesTheReference) {
 // Gaussian's square inside the frame), a pixel between them more than one beyond; a pixel
 // cut to a fifth gives nothing (to a 50th with the ratio 60 neither); the same pair flagged
 // `near` gives nothing and a flagged receiver gets nothing; one of them alone (no other within
-// 16) is a firefly and gives nothing; share 0 leaves the output as it was.
+// 16) is a firefly and gives nothing; share 0 leaves the output as it was. A source here
+// needs one other within 16.
 TEST(NforRareLight, SpreadsCutPixelsLightButNotALoneOnes) {
     const int w = 31, h = 25;
     auto frame = [&](Image *color, Image *clamped, std::vector<std::pair<int, int>> hits,
@@ -2553,6 +2560,8 @@ TEST(NforRareLight, SpreadsCutPixelsLightButNotALoneOnes) {
     const Image output(w, h, 3, 0.02f);
     Image spread = output;
     NforRareLightSettings s;
+    s.pair = 16;
+    s.others = 1;
     ASSERT_EQ(NforSpreadRareLight(color, clamped, none, s, &spread), 2u);
     double gained = 0;
     for (size_t i = 0; i < spread.PixelCount(); ++i) gained += spread.data[i] - output.data[i];
@@ -2603,11 +2612,42 @@ TEST(NforRareLight, AnInfiniteColourIsNoSource) {
     const Image output(w, h, 3, 0.02f);
     Image host = output, twin = output;
     NforRareLightSettings s;
+    s.pair = 16;  // the pair a source with a finite colour would be
+    s.others = 1;
     EXPECT_EQ(NforSpreadRareLight(color, clamped, none, s, &host), 0u);
     EXPECT_EQ(host.data, output.data);
     ref::NforSpreadRareLight(color, clamped, none, s.share, s.ratio, s.sigma, s.radius, s.pair,
-                             &twin);
+                             s.others, &twin);
     EXPECT_EQ(twin.data, output.data);
+}
+
+// The defaults' sources: hits within 6 of two others (a reflection's footprint) give; two
+// hits 5 apart, and three strewn 10 apart (a caustic's over a floor), are fireflies. Host
+// and CPU twin count alike.
+TEST(NforRareLight, ThinlyScatteredHitsAreNoSources) {
+    const int w = 41, h = 25;
+    const Image output(w, h, 3, 0.02f);
+    NforRareLightSettings s;
+    std::vector<char> none(size_t(w) * h, 0);
+    auto sources = [&](std::vector<std::pair<int, int>> hits) {
+        Image color(w, h, 3, 0.02f);
+        for (auto [y, x] : hits)
+            for (int c = 0; c < 3; ++c) color.At(c, y, x) = 2.f;
+        Image clamped = color;
+        for (auto [y, x] : hits)
+            for (int c = 0; c < 3; ++c) clamped.At(c, y, x) = 0.04f;
+        Image host = output, twin = output;
+        const size_t count = NforSpreadRareLight(color, clamped, none, s, &host);
+        EXPECT_EQ(count, ref::NforSpreadRareLight(color, clamped, none, s.share, s.ratio,
+                                                  s.sigma, s.radius, s.pair, s.others, &twin));
+        EXPECT_EQ(count == 0, host.data == output.data);
+        return count;
+    };
+    EXPECT_EQ(sources({{12, 10}, {12, 15}, {15, 12}}), 3u);
+    EXPECT_EQ(sources({{12, 10}, {12, 15}}), 0u);
+    EXPECT_EQ(sources({{12, 5}, {12, 15}, {12, 25}}), 0u);
+    s.pair = 16;  // the middle one has both within 16
+    EXPECT_EQ(sources({{12, 5}, {12, 15}, {12, 25}}), 1u);
 }
 
 // The glint bands against their reference: log-normal outputs, an albedo with glints (above
@@ -4128,9 +4168,10 @@ TEST_F(NforMethod, PlainFramesTakeTheWideSecondPass) {
     EXPECT_FALSE(wide(run(layered, 5, 3, 0), 5));
 }
 
-// Through the API: on a plain frame two far-out hits on a flat ground, 3 apart, which the
-// firefly clamp cuts, give a share of their light around them (the plan names them; with
-// --rare-light-share 0 the output differs); beside a variance layer the pass does not run.
+// Through the API: on a plain frame three far-out hits on a flat ground, within 3 of each
+// other, which the firefly clamp cuts, give a share of their light around them (the plan
+// names them; with --rare-light-share 0 the output differs); beside a variance layer the
+// pass does not run.
 TEST_F(NforMethod, PlainFramesSpreadTheRareLight) {
     Frame f = MakeFrame(29, 23, 0, "rare light");
     for (int y = 0; y < 23; ++y)
@@ -4140,7 +4181,8 @@ TEST_F(NforMethod, PlainFramesSpreadTheRareLight) {
                 f.normal.At(c, y, x) = c == 2 ? 1.f : 0.f;
                 f.color.At(c, y, x) = 0.02f * (1 + 0.1f * float((x * 7 + y * 3) % 5));
             }
-    for (int c = 0; c < 3; ++c) f.color.At(c, 11, 13) = f.color.At(c, 11, 16) = 3.f;
+    for (int c = 0; c < 3; ++c)
+        f.color.At(c, 11, 13) = f.color.At(c, 11, 16) = f.color.At(c, 14, 15) = 3.f;
     mcd::Frame frame = PlainApiFrame(f, "rare.exr");
     Device device;
     auto run = [&](const mcd::Frame &input, double share) {
@@ -4150,7 +4192,7 @@ TEST_F(NforMethod, PlainFramesSpreadTheRareLight) {
     };
     auto rare = [](const Result &r) {
         bool found = false;
-        for (const std::string &line : r.plan) found |= Contains(line, "rare light: 2 pixels");
+        for (const std::string &line : r.plan) found |= Contains(line, "rare light: 3 pixels");
         return found;
     };
     Result on = run(frame, 0.4), off = run(frame, 0);

@@ -1130,15 +1130,16 @@ Frame PlainSeamFrame(const std::string &path, const std::function<double(int, in
     return frame;
 }
 
-// nfor's rare light (a plain frame, the coarse pass shut): pairs of hits the firefly clamp
-// cuts far down, one each side of the seam, one on it and one lone: a source's pair and
-// its Gaussian reach across the seam, so the tiled result is the untiled one bit for bit.
+// nfor's rare light (a plain frame, the coarse pass shut): a cluster of hits the firefly
+// clamp cuts far down, each within 6 of two others, on both sides of the seam, and one lone:
+// a source's others and its Gaussian reach across the seam, so the tiled result is the
+// untiled one bit for bit.
 TEST_F(GpuTest, TiledRunNforRareLightAcrossTheSeamIsBitIdentical) {
     Device device = api::BorrowDevice(Ctx());
     const int tile = 200;
     Frame frame = PlainSeamFrame("rare light across a seam", [](int, int) { return 0.02; });
     Image &color = frame.layers.at("color");
-    for (auto [y, x] : {std::pair{10, 190}, {14, 205}, {20, 196}, {22, 201}, {8, 60}})
+    for (auto [y, x] : {std::pair{14, 197}, {16, 202}, {19, 199}, {12, 203}, {8, 60}})
         for (int c = 0; c < 3; ++c) color.At(c, y, x) = 4.f;
     ExpectPlainPassTiledAsWhole(device, frame, tile, "rare light: 4 pixels",
                                 "nfor tiled, the rare light");
