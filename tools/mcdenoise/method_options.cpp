@@ -51,6 +51,7 @@ void MethodOptions::AddParams(CLI::App *command, std::vector<ParamInfo> infos) {
                 b->text = std::get<std::string>(info.defaultValue);
                 b->option = command->add_option(flag, b->text, info.help);
                 if (!b->text.empty()) b->option->capture_default_str();
+                if (!info.choices.empty()) CheckChoice(b->option, info.choices);
                 break;
         }
         b->option->group(info.method.empty()         ? "Every method"

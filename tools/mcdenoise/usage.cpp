@@ -165,6 +165,19 @@ CLI::Option *CheckRange(CLI::Option *option, double min, double max, bool intege
     return option;
 }
 
+CLI::Option *CheckChoice(CLI::Option *option, const std::vector<std::string> &choices) {
+    option->check(CLI::Validator(
+        [=](std::string &value) -> std::string {
+            if (std::find(choices.begin(), choices.end(), value) != choices.end()) return "";
+            std::string names;
+            for (size_t i = 0; i < choices.size(); ++i)
+                names += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + choices[i];
+            return fmt::format("'{}' is none of its choices ({})", value, names);
+        },
+        ""));
+    return option;
+}
+
 std::string SpeedText(double ratio) {
     return ratio >= 1 ? fmt::format("{:.2f}x faster", ratio)
                       : fmt::format("{:.2f}x slower", 1 / ratio);

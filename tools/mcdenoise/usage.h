@@ -44,6 +44,10 @@ std::string RangeText(double min, double max);
 // it says so: "--kappa: 1e40 is out of range (a finite number, at least 0)".
 CLI::Option *CheckRange(CLI::Option *option, double min, double max, bool integer);
 
+// Check a text option's value against the values it takes: a command line error (status 2)
+// like a number out of range, "--non-finite: 'maybe' is none of its choices (refuse or zero)".
+CLI::Option *CheckChoice(CLI::Option *option, const std::vector<std::string> &choices);
+
 // How much faster one thing is than another, given their times' ratio (the other's over
 // this one's): "2.40x faster", or below 1 "1.11x slower", never "0.90x faster".
 std::string SpeedText(double ratio);
