@@ -217,10 +217,9 @@ struct NforParams {
     double clampLightNoise = 2;
     // After the clamp's light, where it runs: this share of the light the clamp took from
     // each pixel it cut to under 1 / rareLightRatio with rareLightOthers more within
-    // rareLightPair,
-    // scattered as a Gaussian of rareLightSigma pixels over rareLightRadius
-    // (NforSpreadRareLight, cpu_reference/nfor_rare.h), away from clampLightReach's pixels; 0:
-    // off.
+    // rareLightPair, scattered as a Gaussian of rareLightSigma pixels over rareLightRadius
+    // (NforSpreadRareLight, cpu_reference/nfor_rare.h), away from clampLightReach's pixels;
+    // 0: off.
     double rareLightShare = 0, rareLightRatio = 40, rareLightSigma = 2;
     int rareLightRadius = 6, rareLightPair = 6, rareLightOthers = 2;
     // Last, on a frame without a variance layer: within kNforGlintReach of a glint, each pixel

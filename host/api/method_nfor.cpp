@@ -343,7 +343,8 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         &O::rareLightPair, 1, kNforRarePair)),
         nested(IntParam("rare-light-others",
                         "the cut pixels within --rare-light-pair a source needs besides itself",
-                        &O::rareLightOthers, 1, 1088)),
+                        &O::rareLightOthers, 1,
+                        (2 * kNforRarePair + 1) * (2 * kNforRarePair + 1) - 1)),
         nested(IntParam(
             "glint-band-radius",
             "on a frame without a variance layer, last: within 16 pixels of a glint (an albedo "

@@ -189,13 +189,11 @@ struct NforOptions {
     // rim, a silhouette). clampLightRadius 0: off.
     int clampLightRadius = 16, clampLightFine = 2, clampLightReach = 4;
     // Where the clamp's light is restored, after it: this share of the light the firefly
-    // clamp took from each pixel it cut to under 1 / rareLightRatio with another such within
-    // 16 (rare bright samples) given to the pixels around it as a Gaussian, away from
-    // clampLightReach's pixels
-    // (host/methods/nfor_rare.h); 0: off. The method's API sets it on frames without a
-    // variance layer only.
+    // clamp took from each pixel it cut to under 1 / rareLightRatio with rareLightOthers more
+    // such within rareLightPair (rare bright samples) given to the pixels around it as a
+    // Gaussian, away from clampLightReach's pixels (host/methods/nfor_rare.h); 0: off. The
+    // method's API sets it on frames without a variance layer only.
     float rareLightShare = 0.4f, rareLightRatio = 40;
-    // A source has at least rareLightOthers more such pixels within rareLightPair.
     int rareLightPair = NforRareLightSettings{}.pair;
     int rareLightOthers = NforRareLightSettings{}.others;
     // On a frame without a variance layer, last: within kNforGlintReach of a glint (an

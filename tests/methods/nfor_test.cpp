@@ -2504,7 +2504,7 @@ TEST(NforSpecks, HoldsASpeckOnAFlatGroundToTheTighterBound) {
 // other within 16; the same sources, the same output to round-off; some give, and the lone
 // ones of the sparse frame do not.
 TEST(NforRareLight, MatchesTheReference) {
-    size_t given = 0;
+    size_t given[2] = {0, 0};  // by the defaults' pairing, by one other within 16
     NforRareLightSettings loose;
     loose.pair = 16;
     loose.others = 1;
@@ -2531,9 +2531,10 @@ TEST(NforRareLight, MatchesTheReference) {
                 if (count == 0) {
                     EXPECT_EQ(host.data, output.data) << name;
                 }
-                given += count;
+                given[s.others == 1] += count;
             }
-    EXPECT_GT(given, 0u);
+    EXPECT_GT(given[0], 0u);
+    EXPECT_GT(given[1], 0u);
 }
 
 // Two pixels of a dark ground cut by the clamp to a 50th, 5 apart, give share 0.4 of
@@ -2644,6 +2645,9 @@ TEST(NforRareLight, ThinlyScatteredHitsAreNoSources) {
         return count;
     };
     EXPECT_EQ(sources({{12, 10}, {12, 15}, {15, 12}}), 3u);
+    // The pair's distance counts, one more does not: hits 6 apart, then 7 apart.
+    EXPECT_EQ(sources({{12, 10}, {12, 16}, {18, 13}}), 3u);
+    EXPECT_EQ(sources({{12, 10}, {12, 17}, {19, 13}}), 0u);
     EXPECT_EQ(sources({{12, 10}, {12, 15}}), 0u);
     EXPECT_EQ(sources({{12, 5}, {12, 15}, {12, 25}}), 0u);
     s.pair = 16;  // the middle one has both within 16

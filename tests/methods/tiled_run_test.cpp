@@ -1101,9 +1101,11 @@ TEST_F(GpuTest, TiledRunNforClampLightAcrossTheSeamIsBitIdentical) {
 // tiles: the pass whose plan line holds `ran` ran on the whole frame, and the tiles give the
 // whole frame's bits.
 void ExpectPlainPassTiledAsWhole(Device &device, const Frame &frame, int tile,
-                                 const std::string &ran, const std::string &what) {
+                                 const std::string &ran, const std::string &what,
+                                 const Params &extra = {}) {
     Params params = {
         {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"coarse-gate", 0.f}};
+    params.insert(params.end(), extra.begin(), extra.end());
     auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
     bool found = false;
     for (const std::string &line : whole.plan) found |= line.find(ran) != std::string::npos;
@@ -1143,6 +1145,17 @@ TEST_F(GpuTest, TiledRunNforRareLightAcrossTheSeamIsBitIdentical) {
         for (int c = 0; c < 3; ++c) color.At(c, y, x) = 4.f;
     ExpectPlainPassTiledAsWhole(device, frame, tile, "rare light: 4 pixels",
                                 "nfor tiled, the rare light");
+    // The widest pairing, the clamp's light's own reach short: hits 16 apart across the
+    // seam pair, and the tiles give the whole frame's bits. (The halo's other terms hold
+    // more than this pass reads here: a reach short of the pair's would pass too.)
+    Frame wide =
+        PlainSeamFrame("rare light paired across a seam", [](int, int) { return 0.02; });
+    Image &hits = wide.layers.at("color");
+    for (auto [y, x] : {std::pair{14, 190}, {14, 206}, {20, 198}, {8, 60}})
+        for (int c = 0; c < 3; ++c) hits.At(c, y, x) = 4.f;
+    ExpectPlainPassTiledAsWhole(
+        device, wide, tile, "rare light: 3 pixels", "nfor tiled, the rare light paired over 16",
+        {{"clamp-light-radius", 1}, {"clamp-light-fine", 0}, {"rare-light-pair", 16}});
 }
 
 // The glint bands' pass across a tile seam: a broken band beside a glint on the seam comes out

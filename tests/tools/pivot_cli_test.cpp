@@ -155,7 +155,8 @@ TEST_F(PivotCli, DemodulatesForOtherMethods) {
     EXPECT_TRUE(Contains(r.err, "divides by itself")) << r.err;
     r = Run("denoise n.exr --method awr --demodulate depth -o p.exr");
     EXPECT_EQ(r.code, int(tool::ExitStatus::Usage));
-    EXPECT_TRUE(Contains(r.err, "pivot or albedo")) << r.err;
+    EXPECT_TRUE(Contains(r.err, "'depth' is none of its choices ('', pivot or albedo)"))
+        << r.err;
 }
 
 // rhf filters z = color / pivot with the renderer's histograms of z (zhist); without

@@ -171,7 +171,10 @@ CLI::Option *CheckChoice(CLI::Option *option, const std::vector<std::string> &ch
             if (std::find(choices.begin(), choices.end(), value) != choices.end()) return "";
             std::string names;
             for (size_t i = 0; i < choices.size(); ++i)
-                names += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + choices[i];
+                names += (i == 0                    ? ""
+                          : i + 1 == choices.size() ? " or "
+                                                    : ", ") +
+                         (choices[i].empty() ? "''" : choices[i]);
             return fmt::format("'{}' is none of its choices ({})", value, names);
         },
         ""));
