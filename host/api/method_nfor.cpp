@@ -342,7 +342,8 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "would each become a blob)",
                         &O::rareLightPair, 1, kNforRarePair)),
         nested(IntParam("rare-light-others",
-                        "the cut pixels within --rare-light-pair a source needs besides itself",
+                        "the cut pixels within --rare-light-pair a source needs besides "
+                        "itself (more than that square holds: no source)",
                         &O::rareLightOthers, 1,
                         (2 * kNforRarePair + 1) * (2 * kNforRarePair + 1) - 1)),
         nested(IntParam(

@@ -189,9 +189,8 @@ void CheckOptions(const NforOptions &o) {
             "speck floor, layer and pilot noise caps, albedo noise, glint noise and weak "
             "emitter line finite and >= 0, weak emitter range finite and > 0, speck relative "
             "finite, mean radius >= 0, light shares 0 to 0.25, rare light share 0 to 1, "
-            "ratio finite and >= 1, pair 1 to 16, others >= 1, rim ratio 0 or finite and above "
-            "1, glint band radius 0 "
-            "to 15",
+            "ratio finite and >= 1, pair 1 to 16, others >= 1, rim ratio 0 or finite and "
+            "above 1, glint band radius 0 to 15",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
