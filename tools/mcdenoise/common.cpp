@@ -11,6 +11,7 @@
 #include "host/error.h"
 #include "host/io/frame.h"
 #include "tools/mcdenoise/commands.h"
+#include "tools/mcdenoise/usage.h"
 
 namespace mcd::tool {
 
@@ -50,14 +51,7 @@ void ParseSize(const std::string &text, int *width, int *height) {
 void CheckOutputPath(const std::string &path, std::initializer_list<const char *> extensions,
                      const std::string &role) {
     namespace fs = std::filesystem;
-    // ".exr, .hdr or .png"
-    std::string list;
-    size_t i = 0;
-    for (const char *e : extensions) {
-        if (i > 0) list += i + 1 == extensions.size() ? " or " : ", ";
-        list += e;
-        ++i;
-    }
+    const std::string list = OrList({extensions.begin(), extensions.end()});  // ".exr or .png"
     std::error_code ec;
     if (!path.empty() && (path.back() == '/' || fs::is_directory(path, ec)))
         throw Error(fmt::format("{} '{}' is a directory; give a file name ending in {}", role,

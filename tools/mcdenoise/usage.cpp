@@ -165,17 +165,21 @@ CLI::Option *CheckRange(CLI::Option *option, double min, double max, bool intege
     return option;
 }
 
+std::string OrList(const std::vector<std::string> &words) {
+    std::string list;
+    for (size_t i = 0; i < words.size(); ++i)
+        list += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + words[i];
+    return list;
+}
+
 CLI::Option *CheckChoice(CLI::Option *option, const std::vector<std::string> &choices) {
+    // An empty choice (the default of some) said as ''.
+    std::vector<std::string> said;
+    for (const std::string &c : choices) said.push_back(c.empty() ? "''" : c);
     option->check(CLI::Validator(
         [=](std::string &value) -> std::string {
             if (std::find(choices.begin(), choices.end(), value) != choices.end()) return "";
-            std::string names;
-            for (size_t i = 0; i < choices.size(); ++i)
-                names += (i == 0                    ? ""
-                          : i + 1 == choices.size() ? " or "
-                                                    : ", ") +
-                         (choices[i].empty() ? "''" : choices[i]);
-            return fmt::format("'{}' is none of its choices ({})", value, names);
+            return fmt::format("'{}' is none of its choices ({})", value, OrList(said));
         },
         ""));
     return option;
