@@ -108,7 +108,7 @@ using shader::kNforGlintReach;
 constexpr double kNforClampLossMinShare = 1e-3;
 
 struct NforParams {
-    int radius = 7;        // regression window half-size R
+    int radius = 5;        // regression window half-size R
     int gatherRadius = 3;  // a pixel averages the fits of windows centred this close
     int patchRadius = 2;   // colour patch half-size
     std::vector<double> bandwidths = {0.5, 1.0};  // k per candidate

@@ -30,7 +30,7 @@ struct NforParamsApi {
     // On a frame without a variance layer, where --pilot-wide-radius is 0: the second
     // pass's wide windows and the agreement that takes their fit (0: off).
     int plainWideRadius = 8;
-    float plainWideAgreement = 0.001f;
+    float plainWideAgreement = 0.003f;
 };
 
 std::vector<float> ParseBandwidths(const std::string &text, const char *option) {

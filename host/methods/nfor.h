@@ -29,7 +29,7 @@ using shader::kNforGlintGuardReach;
 using shader::kNforGlintReach;
 
 struct NforOptions {
-    int radius = 7;  // regression window half-size
+    int radius = 5;  // regression window half-size
     // Each pixel averages the fits of the windows centred at most this far (NFOR: all
     // that hold it, the radius); -1: the radius.
     int gatherRadius = 3;

@@ -1499,7 +1499,7 @@ TEST_F(AutoMethod, FrameWithHalvesRunsNforAmongTheCandidates) {
     // narrower windows (a noisy frame's too): the run's two bandwidths share one regression
     // dispatch, then the pilot's pass; the probe's one bandwidth has one, then the pilot's.
     EXPECT_TRUE(PlanHas(result,
-                        "nfor: its probe with --bandwidths 1, --radius 5, --noisy-radius 8 (a "
+                        "nfor: its probe with --bandwidths 1, --radius 3, --noisy-radius 8 (a "
                         "cheaper"))
         << plan;
     // Its estimate stands for the variance layer, and the passes of a plain frame run.
