@@ -118,7 +118,7 @@ struct NforParams {
     bool demodulateDistance = true;  // the distance of colour / albedo
     // The distance's pairs with an end whose albedo is noise (NforAlbedoTrust with this
     // bound) compare colours; 0: every pair compares colour / albedo.
-    double albedoNoise = 0.1;
+    double albedoNoise = 0.02;
     // Without a variance layer (edgeNoise), where the trust is 0 within kNforGlintReach of an
     // albedo channel above kNforGlintAlbedo: the variance floored at this times the clamped
     // colour's 3x3 variance (NforGlintNoise), for every later step that reads it; 0: off.

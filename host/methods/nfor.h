@@ -48,7 +48,7 @@ struct NforOptions {
     // albedo is noise: its relative variance over 3x3 above this, and dividing by it
     // roughens the colour (glossy metal, whose albedo follows the sampled bounce); 0: every
     // pair compares colour / albedo.
-    float albedoNoise = 0.1f;
+    float albedoNoise = 0.02f;
     // On a frame without a variance layer, where the albedo is noise (albedoNoise's trust 0)
     // within kNforGlintReach of a glint: the weights' noise at least this times the clamped
     // colour's variance over 3x3 (the variance SURE's choice and the pilot's distance read
