@@ -18,8 +18,8 @@ namespace {
 // nfor's probe: the widest of the run's first-pass bandwidths alone, over windows 2 pixels
 // narrower, a noisy frame's too (the pilot's pass as the run's). The run picks among its
 // bandwidths per pixel by SURE, mostly the widest; on the accumulated frames this probe weighed
-// the candidates as well as the run's own, and as windows 1 or 0 pixels narrower
-// (docs/methods/auto.md, nfor.md), for less work.
+// the candidates as well as a probe of the run's own settings did, and as probes over windows
+// 1 or 0 pixels narrower did, for less work (docs/methods/auto.md, nfor.md).
 void NforCheaperProbe(FrontEnd &nfor) {
     const std::string list = std::get<std::string>(nfor.Get("bandwidths"));
     std::string widest;
