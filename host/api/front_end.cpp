@@ -33,6 +33,16 @@ Result ResultOf(MethodResult &&run) {
     return result;
 }
 
+std::string OrList(const std::vector<std::string> &words) {
+    std::string list;
+    for (size_t i = 0; i < words.size(); ++i)
+        list += (i == 0                  ? ""
+                 : i + 1 == words.size() ? " or "
+                                         : ", ") +
+                (words[i].empty() ? "''" : words[i]);
+    return list;
+}
+
 std::string ParamValueText(const ParamValue &value) {
     if (const bool *b = std::get_if<bool>(&value)) return *b ? "true" : "false";
     if (const int *i = std::get_if<int>(&value)) return std::to_string(*i);

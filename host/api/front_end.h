@@ -344,6 +344,9 @@ Result ResultOf(MethodResult &&run);
 // A parameter's value as text: true/false, the number, or the string itself.
 std::string ParamValueText(const ParamValue &value);
 
+// Words joined as a sentence lists them, an empty one said as '': "a", "a or b", "a, b or c".
+std::string OrList(const std::vector<std::string> &words);
+
 // The frame's samples per pixel: the median of its spp layer (rounded) where it has one,
 // else what its metadata states (host/common/samples.h), else 0 (unknown).
 int FrameSamplesPerPixel(Inputs &inputs);

@@ -436,17 +436,9 @@ void Method::Set(const std::string &name, ParamValue value) {
     if (info.type == ParamType::String && !info.choices.empty() &&
         std::find(info.choices.begin(), info.choices.end(), std::get<std::string>(value)) ==
             info.choices.end()) {
-        std::string choices;
-        for (size_t i = 0; i < info.choices.size(); ++i) {
-            const std::string &c = info.choices[i];
-            choices += (i == 0                         ? ""
-                        : i + 1 == info.choices.size() ? " or "
-                                                       : ", ") +
-                       (c.empty() ? "''" : c);
-        }
-        throw Error(
-            fmt::format("{}: {} takes {}, not {}", Name(), name, choices, ValueText(value)),
-            ErrorKind::InvalidArgument);
+        throw Error(fmt::format("{}: {} takes {}, not {}", Name(), name,
+                                api::OrList(info.choices), ValueText(value)),
+                    ErrorKind::InvalidArgument);
     }
     if (impl->IsCommon(name)) {
         for (const api::ParamDef<CommonParams> &def : CommonDefs())

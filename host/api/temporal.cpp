@@ -94,7 +94,7 @@ void Check(const ParamInfo &info, ParamValue &value) {
         std::find(info.choices.begin(), info.choices.end(), std::get<std::string>(value)) ==
             info.choices.end())
         throw Error(fmt::format("temporal: {} takes {}, not '{}'", info.name,
-                                fmt::join(info.choices, " or "), std::get<std::string>(value)),
+                                api::OrList(info.choices), std::get<std::string>(value)),
                     ErrorKind::InvalidArgument);
 }
 

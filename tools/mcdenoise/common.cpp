@@ -8,10 +8,10 @@
 
 #include <unistd.h>
 
+#include "host/api/front_end.h"
 #include "host/error.h"
 #include "host/io/frame.h"
 #include "tools/mcdenoise/commands.h"
-#include "tools/mcdenoise/usage.h"
 
 namespace mcd::tool {
 
@@ -51,7 +51,8 @@ void ParseSize(const std::string &text, int *width, int *height) {
 void CheckOutputPath(const std::string &path, std::initializer_list<const char *> extensions,
                      const std::string &role) {
     namespace fs = std::filesystem;
-    const std::string list = OrList({extensions.begin(), extensions.end()});  // ".exr or .png"
+    const std::string list =
+        api::OrList({extensions.begin(), extensions.end()});  // ".exr or .png"
     std::error_code ec;
     if (!path.empty() && (path.back() == '/' || fs::is_directory(path, ec)))
         throw Error(fmt::format("{} '{}' is a directory; give a file name ending in {}", role,

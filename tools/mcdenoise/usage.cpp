@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "host/api/front_end.h"
+
 namespace mcd::tool {
 namespace {
 
@@ -165,21 +167,11 @@ CLI::Option *CheckRange(CLI::Option *option, double min, double max, bool intege
     return option;
 }
 
-std::string OrList(const std::vector<std::string> &words) {
-    std::string list;
-    for (size_t i = 0; i < words.size(); ++i)
-        list += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + words[i];
-    return list;
-}
-
 CLI::Option *CheckChoice(CLI::Option *option, const std::vector<std::string> &choices) {
-    // An empty choice (the default of some) said as ''.
-    std::vector<std::string> said;
-    for (const std::string &c : choices) said.push_back(c.empty() ? "''" : c);
     option->check(CLI::Validator(
         [=](std::string &value) -> std::string {
             if (std::find(choices.begin(), choices.end(), value) != choices.end()) return "";
-            return fmt::format("'{}' is none of its choices ({})", value, OrList(said));
+            return fmt::format("'{}' is none of its choices ({})", value, api::OrList(choices));
         },
         ""));
     return option;

@@ -44,9 +44,6 @@ std::string RangeText(double min, double max);
 // it says so: "--kappa: 1e40 is out of range (a finite number, at least 0)".
 CLI::Option *CheckRange(CLI::Option *option, double min, double max, bool integer);
 
-// Words joined as a sentence lists them: "a", "a or b", "a, b or c".
-std::string OrList(const std::vector<std::string> &words);
-
 // Check a text option's value against the values it takes: a command line error (status 2)
 // like a number out of range, "--non-finite: 'maybe' is none of its choices (refuse or zero)".
 CLI::Option *CheckChoice(CLI::Option *option, const std::vector<std::string> &choices);
