@@ -200,18 +200,40 @@ void KeepMean(const Image &color, BayesRefResult *result, bool keepStage) {
     if (keepStage) result->stages.push_back({"keep mean", out});
 }
 
-// keepMean, then the local mean.
+// Where an input value is above the largest of its 8 neighbours (those inside the frame) in
+// its channel, an output above it takes the input's value: a lone peak is never raised.
+void CapLonePeaks(const Image &color, Image *out) {
+    for (int c = 0; c < color.channels; ++c)
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                double around = -std::numeric_limits<double>::infinity();
+                for (int v = std::max(y - 1, 0); v <= std::min(y + 1, color.height - 1); ++v)
+                    for (int u = std::max(x - 1, 0); u <= std::min(x + 1, color.width - 1); ++u)
+                        if (u != x || v != y) {
+                            double n = color.At(c, v, u);
+                            around = std::isnan(n) ? std::numeric_limits<double>::infinity()
+                                                   : std::max(around, n);
+                        }
+                double in = color.At(c, y, x);
+                if (std::isfinite(in) && in > around && out->At(c, y, x) > in)
+                    out->At(c, y, x) = float(in);
+            }
+}
+
+// keepMean, then the local mean, then CapLonePeaks.
 void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages,
                   const Image *variance, BayesRefResult *result) {
     if (params.keepMean) KeepMean(color, result, keepStages);
-    if (params.meanRadius <= 0) return;
-    // Kept: the zeros restored black (0 in and out) only, not a filtered value that lands
-    // on its input.
-    std::vector<bool> kept(color.data.size());
-    for (size_t i = 0; i < kept.size(); ++i)
-        kept[i] = color.data[i] == 0 && result->image.data[i] == 0;
-    RestoreLocalMeans(color, params.meanRadius, &result->image, variance, -1, false, &kept);
-    if (keepStages) result->stages.push_back({"local mean", result->image});
+    if (params.meanRadius > 0) {
+        // Kept: the zeros restored black (0 in and out) only, not a filtered value that
+        // lands on its input.
+        std::vector<bool> kept(color.data.size());
+        for (size_t i = 0; i < kept.size(); ++i)
+            kept[i] = color.data[i] == 0 && result->image.data[i] == 0;
+        RestoreLocalMeans(color, params.meanRadius, &result->image, variance, -1, false, &kept);
+        if (keepStages) result->stages.push_back({"local mean", result->image});
+    }
+    CapLonePeaks(color, &result->image);
 }
 
 }  // namespace

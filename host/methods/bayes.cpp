@@ -244,7 +244,44 @@ void LocalMean(const Image &color, int radius, const Image *variance, BayesResul
                     8 * radius, 2 * radius, f.lo, f.hi));
 }
 
-// keepMean, then the local mean, each a stage when kept.
+// Whether color's value of channel c at (x, y) is above each of its 8 neighbours inside the
+// frame in that channel (NaN never is).
+bool LoneMaximum(const Image &color, int c, int y, int x) {
+    const float v = color.At(c, y, x);
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const int u = x + dx, t = y + dy;
+            if ((dx || dy) && u >= 0 && u < color.width && t >= 0 && t < color.height &&
+                !(v > color.At(c, t, u)))
+                return false;
+        }
+    return std::isfinite(v);
+}
+
+// Lower each value of the output above its input where that input stands above its 8
+// neighbours: averaging never lifts a lone peak, so a rise there is the log domain's bias and
+// its restore, which would make a firefly brighter than it came in.
+void CapLonePeaks(const Image &color, BayesResult *result) {
+    Image &out = result->image;
+    size_t capped = 0;
+    for (int c = 0; c < color.channels; ++c)
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                float &o = out.At(c, y, x);
+                const float v = color.At(c, y, x);
+                if (o > v && LoneMaximum(color, c, y, x)) {
+                    o = v;
+                    ++capped;
+                }
+            }
+    result->plan.push_back(
+        fmt::format("lone peaks: {} values above their 8 neighbours in the input, raised by "
+                    "the log domain's "
+                    "bias or its restore, lowered to their input",
+                    capped));
+}
+
+// keepMean, then the local mean, each a stage when kept; then CapLonePeaks.
 void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages,
                   const Image *variance, BayesResult *result) {
     if (params.keepMean) {
@@ -255,6 +292,7 @@ void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages
         LocalMean(color, params.meanRadius, variance, result);
         if (keepStages) result->stages.push_back({"local mean", result->image});
     }
+    CapLonePeaks(color, result);
 }
 
 }  // namespace
