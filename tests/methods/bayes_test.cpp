@@ -23,6 +23,7 @@
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/api/device.h"
+#include "host/common/parallel.h"
 #include "host/kernels/bayes_exp.h"
 #include "host/kernels/bayes_log.h"
 #include "host/kernels/bayes_mix.h"
@@ -1481,6 +1482,11 @@ TEST_F(BayesProperties, LonePeaksAreNeverRaised) {
                 EXPECT_LE(cpu.At(c, y, x), color.At(c, y, x)) << c << " " << x << " " << y;
             }
     EXPECT_GT(peaks, 36);
+    // Split among threads (a large frame's way), the same bits.
+    {
+        ForceParallelParts split(5);
+        EXPECT_EQ(BayesDenoise(Ctx(), color, options).image.data, gpu.image.data);
+    }
     bool counted = false;
     for (const std::string &line : gpu.plan)
         counted =
