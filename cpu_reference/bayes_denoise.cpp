@@ -220,7 +220,7 @@ void CapLonePeaks(const Image &color, Image *out) {
             }
 }
 
-// keepMean, then the local mean, then CapLonePeaks.
+// keepMean, then the local mean.
 void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages,
                   const Image *variance, BayesRefResult *result) {
     if (params.keepMean) KeepMean(color, result, keepStages);
@@ -233,7 +233,6 @@ void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages
         RestoreLocalMeans(color, params.meanRadius, &result->image, variance, -1, false, &kept);
         if (keepStages) result->stages.push_back({"local mean", result->image});
     }
-    CapLonePeaks(color, &result->image);
 }
 
 }  // namespace
@@ -440,8 +439,11 @@ BayesRefResult BayesDenoise(const Image &color, const BayesParams &params,
         throw Error("bayes reference: --noise mad needs the GPU run's estimate (madSn)",
                     ErrorKind::Internal);
     if (!mad) resolved.madSn = -1;
-    return params.spins > 1 ? BayesDenoiseSpun(color, params, resolved)
-                            : BayesDenoiseOnce(color, params, resolved);
+    BayesRefResult result = params.spins > 1 ? BayesDenoiseSpun(color, params, resolved)
+                                             : BayesDenoiseOnce(color, params, resolved);
+    // Once, on the final output: after the restore, and after the average over the shifts.
+    CapLonePeaks(color, &result.image);
+    return result;
 }
 
 }  // namespace mcd::ref

@@ -260,8 +260,8 @@ bool LoneMaximum(const Image &color, int c, int y, int x) {
 }
 
 // Lower each value of the output above its input where that input stands above its 8
-// neighbours: averaging never lifts a lone peak, so a rise there is the log domain's bias and
-// its restore, which would make a firefly brighter than it came in.
+// neighbours: such a lone peak is a firefly or a maximum of the noise, and a denoiser has no
+// cause to raise it (the log domain's bias and its restore did, by a little).
 void CapLonePeaks(const Image &color, BayesResult *result) {
     Image &out = result->image;
     std::atomic<size_t> capped{0};
@@ -281,14 +281,14 @@ void CapLonePeaks(const Image &color, BayesResult *result) {
         }
         capped += count;
     });
-    result->plan.push_back(
-        fmt::format("lone peaks: {} values above their 8 neighbours in the input, raised by "
-                    "the log domain's "
-                    "bias or its restore, lowered to their input",
-                    capped.load()));
+    if (capped.load() > 0)
+        result->plan.push_back(fmt::format(
+            "lone peaks: {} values above their 8 neighbours in the input, raised by the log "
+            "domain's bias or its restore, lowered to their input",
+            capped.load()));
 }
 
-// keepMean, then the local mean, each a stage when kept; then CapLonePeaks.
+// keepMean, then the local mean, each a stage when kept.
 void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages,
                   const Image *variance, BayesResult *result) {
     if (params.keepMean) {
@@ -299,7 +299,6 @@ void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages
         LocalMean(color, params.meanRadius, variance, result);
         if (keepStages) result->stages.push_back({"local mean", result->image});
     }
-    CapLonePeaks(color, result);
 }
 
 }  // namespace
@@ -929,7 +928,11 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesPa
     CheckBayesParams(color, params);
     variance = NoiseVariance(params, variance);
     if (!setup.zerosDecided) CheckBayesZeros(color, params);
-    if (params.spins == 1) return BayesDenoiseOnce(context, color, params, setup, variance);
+    if (params.spins == 1) {
+        BayesResult once = BayesDenoiseOnce(context, color, params, setup, variance);
+        CapLonePeaks(color, &once);
+        return once;
+    }
     // Cycle spinning: the first shift's result carries the plan, warnings and fits.
     BayesParams once = params;
     once.spins = 1;
@@ -970,6 +973,7 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesPa
                                    params.spins, params.spins));
     if (setup.keepStages) result.stages.push_back({"cycle spinning", result.image});
     RestoreMeans(color, params, setup.keepStages, variance, &result);
+    CapLonePeaks(color, &result);
     return result;
 }
 
