@@ -929,9 +929,9 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesPa
     variance = NoiseVariance(params, variance);
     if (!setup.zerosDecided) CheckBayesZeros(color, params);
     if (params.spins == 1) {
-        BayesResult once = BayesDenoiseOnce(context, color, params, setup, variance);
-        CapLonePeaks(color, &once);
-        return once;
+        BayesResult result = BayesDenoiseOnce(context, color, params, setup, variance);
+        CapLonePeaks(color, &result);
+        return result;
     }
     // Cycle spinning: the first shift's result carries the plan, warnings and fits.
     BayesParams once = params;

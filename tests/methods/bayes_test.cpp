@@ -1485,8 +1485,9 @@ TEST_F(BayesProperties, LonePeaksAreNeverRaised) {
             for (int y = 0; y < h; ++y)
                 for (int x = 0; x < w; ++x)
                     if (LonePeak(color, c, y, x)) {
-                        EXPECT_LE(gpu.image.At(c, y, x), color.At(c, y, x)) << c << x << y;
-                        EXPECT_LE(cpu.At(c, y, x), color.At(c, y, x)) << c << x << y;
+                        const std::string at = fmt::format("channel {} at ({}, {})", c, x, y);
+                        EXPECT_LE(gpu.image.At(c, y, x), color.At(c, y, x)) << at;
+                        EXPECT_LE(cpu.At(c, y, x), color.At(c, y, x)) << at;
                     }
         bool counted = false;
         for (const std::string &line : gpu.plan)
