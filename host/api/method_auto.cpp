@@ -1384,9 +1384,10 @@ std::unique_ptr<FrontEnd> AutoFrontEnd::Clone() const {
 }
 
 std::string AutoFrontEnd::Summary() const {
-    return "the methods the frame's layers allow, combined per pixel by error estimates "
-           "that need no reference (the half-buffers, else SURE from the variance layer); "
-           "nfor alone on a frame without statistics";
+    return "its candidates that the frame's layers allow (awr only where --auto-candidates "
+           "names it), combined per pixel by error estimates that need no reference (the "
+           "half-buffers, else SURE from the variance layer); nfor alone on a frame without "
+           "statistics";
 }
 
 void AutoFrontEnd::Set(const std::string &param, const ParamValue &value) {

@@ -152,8 +152,8 @@ void AddDenoiseCommand(CLI::App &app) {
                     "(out.####.exr) or a directory (out/)")
         ->required();
     cmd->add_option("--method", opt->method,
-                    "auto (the default: the methods the frame's layers allow, combined per "
-                    "pixel; nfor alone on a frame without statistics), " +
+                    "auto (the default: its candidates that the frame's layers allow, combined "
+                    "per pixel; nfor alone on a frame without statistics), " +
                         MethodOptions::Names())
         ->capture_default_str();
     cmd->add_flag("--explain", opt->explain, "print what runs and what is left out, and why");

@@ -29,8 +29,8 @@ void AddCommands(CLI::App &app) {
     app.footer(
         "Run 'mcdenoise COMMAND --help' for a command's options. Quick start: "
         "mcdenoise denoise frame.exr -o clean.exr (method auto, the default: nfor alone on a "
-        "plain render; on a frame with statistics every method its layers allow, combined "
-        "per pixel).");
+        "plain render; on a frame with statistics its candidates that the layers allow, "
+        "combined per pixel).");
     // The help lists a command's subcommands under "Commands".
     std::function<void(CLI::App &)> group = [&](CLI::App &parent) {
         for (CLI::App *command : parent.get_subcommands({})) {
