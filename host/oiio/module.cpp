@@ -1,8 +1,11 @@
 // libmcdenoise_oiio: the image files OpenEXR does not read, through OpenImageIO, behind the
 // plain C interface of host/io/oiio_module.h.
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <memory>
@@ -152,6 +155,25 @@ void Close(void *handle) {
     delete static_cast<Image *>(handle);
 }
 
+// Write `bytes` to `path`, every failure (open, write, flush, close) an error return.
+int WriteBytes(const char *path, const std::vector<unsigned char> &bytes, char *error,
+               size_t errorSize) {
+    std::FILE *file = std::fopen(path, "wb");
+    if (!file) {
+        SetError(error, errorSize, std::strerror(errno));
+        return 0;
+    }
+    bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size() &&
+                   std::fflush(file) == 0;
+    int writeErrno = errno;
+    if (std::fclose(file) != 0 && written) {
+        written = false;
+        writeErrno = errno;
+    }
+    if (!written) SetError(error, errorSize, std::strerror(writeErrno));
+    return written ? 1 : 0;
+}
+
 int WriteImageUInt8(const char *path, const char *format, int width, int height, int channels,
                     const unsigned char *pixels, int unassociatedAlpha, char *error,
                     size_t errorSize) {
@@ -163,11 +185,20 @@ int WriteImageUInt8(const char *path, const char *format, int width, int height,
     OIIO::ImageSpec spec(width, height, channels, OIIO::TypeUInt8);
     spec.attribute("oiio:ColorSpace", "sRGB");
     if (unassociatedAlpha) spec.attribute("oiio:UnassociatedAlpha", 1);
+    // Encode into memory and write the bytes here: the format's own file writes leave a
+    // failed write (a full disk) unreported, and the caller would rename a cut-off file over
+    // a good one.
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput memory(bytes);
+    if (!out->supports("ioproxy") || !out->set_ioproxy(&memory)) {
+        SetError(error, errorSize, std::string(format) + " cannot be encoded into memory");
+        return 0;
+    }
     if (!out->open(path, spec) || !out->write_image(OIIO::TypeUInt8, pixels) || !out->close()) {
         SetError(error, errorSize, out->geterror());
         return 0;
     }
-    return 1;
+    return WriteBytes(path, bytes, error, errorSize);
 }
 
 int WriteUInt8(const char *path, const char *format, int width, int height, int channels,

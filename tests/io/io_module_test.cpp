@@ -182,6 +182,31 @@ TEST_F(IoTestModule, ModuleErrorsComeBackAsErrors) {
     EXPECT_THROW(image.ReadRows(0, 1, rows.data()), Error);
 }
 
+TEST_F(IoTestModule, AFailedPngWriteIsAnError) {
+    // A full disk: /dev/full takes the open and fails every write with ENOSPC. The format's
+    // own file writes let that pass; the module's writes must report it.
+    if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+    const McdOiioApi &api = IoModule(Path("any.png"), "write");
+    std::vector<unsigned char> pixels(64 * 64 * 3);
+    for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<unsigned char>(i * 7);
+    char error[256] = {};
+    EXPECT_EQ(
+        api.writeUInt8("/dev/full", "png", 64, 64, 3, pixels.data(), 0, error, sizeof error),
+        0);
+    EXPECT_NE(std::string(error).find("No space"), std::string::npos) << error;
+
+    // The same write to a file succeeds and reads back.
+    std::string path = Path("ok.png");
+    error[0] = 0;
+    ASSERT_EQ(
+        api.writeUInt8(path.c_str(), "png", 64, 64, 3, pixels.data(), 0, error, sizeof error),
+        1)
+        << error;
+    Image back = ReadImage(path);
+    EXPECT_EQ(back.width, 64);
+    EXPECT_EQ(back.height, 64);
+}
+
 // Channel names from a seeded generator: layers, RGBA and other suffixes in any case.
 std::vector<std::string> RandomChannels(std::mt19937 &random) {
     const std::vector<std::string> layers = {"",
