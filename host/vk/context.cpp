@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -233,6 +234,33 @@ std::vector<DeviceInfo> ListDevices() {
 
 namespace {
 
+// The first `most` bytes of the file at `path` (all by default), or none where it is absent.
+// A path that is there but no regular file (a directory) is the caller's mistake: an error
+// naming it.
+std::vector<char> ReadCacheFile(const std::string &path, size_t most = SIZE_MAX) {
+    std::error_code ec;
+    if (path.empty() || !std::filesystem::exists(path, ec)) return {};
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw Error(fmt::format("pipeline cache '{}' is not a regular file", path),
+                    ErrorKind::InvalidArgument);
+    std::ifstream in(path, std::ios::binary);
+    std::vector<char> data;
+    for (std::istreambuf_iterator<char> it(in), end; it != end && data.size() < most; ++it)
+        data.push_back(*it);
+    return data;
+}
+
+// Whether `data` opens with a pipeline cache's header (Vulkan spec, "Pipeline Cache Header").
+bool IsPipelineCache(const std::vector<char> &data) {
+    auto word = [&](size_t at) {
+        uint32_t v;
+        std::memcpy(&v, data.data() + at, 4);
+        return v;
+    };
+    return data.size() >= 16 + VK_UUID_SIZE && word(0) >= 16 + VK_UUID_SIZE &&
+           word(4) == VK_PIPELINE_CACHE_HEADER_VERSION_ONE;
+}
+
 // The build threads: one per core, at most 8, unless the options say how many.
 int BuildThreads(int asked) {
     if (asked > 0) return asked;
@@ -353,13 +381,9 @@ void Context::Destroy() {
 }
 
 void Context::LoadPipelineCache() {
-    std::vector<char> data;
-    if (!pipelineCachePath.empty()) {
-        std::ifstream in(pipelineCachePath, std::ios::binary);
-        data.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    }
-    // The header (Vulkan spec, "Pipeline Cache Header"): a file from another device or
-    // driver version is left unread rather than handed to the driver.
+    std::vector<char> data = ReadCacheFile(pipelineCachePath);
+    // The header: a file from another device or driver version is left unread rather than
+    // handed to the driver.
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(physicalDevice, &props);
     auto word = [&](size_t at) {
@@ -367,8 +391,7 @@ void Context::LoadPipelineCache() {
         std::memcpy(&v, data.data() + at, 4);
         return v;
     };
-    bool isCache = data.size() >= 16 + VK_UUID_SIZE && word(0) >= 16 + VK_UUID_SIZE &&
-                   word(4) == VK_PIPELINE_CACHE_HEADER_VERSION_ONE;
+    bool isCache = IsPipelineCache(data);
     bool fits = isCache && word(8) == props.vendorID && word(12) == props.deviceID &&
                 std::memcmp(data.data() + 16, props.pipelineCacheUUID, VK_UUID_SIZE) == 0;
     // Only a pipeline cache (any device's) or no file is replaced at the end: a path given
@@ -402,6 +425,11 @@ void Context::SavePipelineCache() {
     namespace fs = std::filesystem;
     std::error_code ec;
     fs::path path(pipelineCachePath);
+    // A file that appeared there during the run (an output given the cache's name) stays.
+    if (fs::exists(path, ec) &&
+        (!fs::is_regular_file(path, ec) ||
+         !IsPipelineCache(ReadCacheFile(pipelineCachePath, 16 + VK_UUID_SIZE))))
+        return;
     if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
     std::string temp = fmt::format("{}.{}.tmp", pipelineCachePath, ::getpid());
     {

@@ -1005,6 +1005,26 @@ TEST(VkPipelineCache, WrittenReadBackAndForeignFilesIgnored) {
         context.GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar)).Pipeline();
     }
     EXPECT_EQ(bytes(), "not a pipeline cache");
+    // Absent at the start, written during the run (an output given the cache's name): that
+    // file stays as the run left it.
+    fs::remove(path);
+    {
+        vk::Context context(vk::ContextOptions{.pipelineCache = path});
+        context.GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar)).Pipeline();
+        std::ofstream(path, std::ios::binary | std::ios::trunc) << "an output";
+    }
+    EXPECT_EQ(bytes(), "an output");
+    // A directory is no cache file: an error naming it, before any work.
+    std::string directory = (dir / "sub" / "cache.dir").string();
+    fs::create_directories(directory);
+    try {
+        vk::Context context(vk::ContextOptions{.pipelineCache = directory});
+        ADD_FAILURE() << "a directory was taken for a pipeline cache";
+    } catch (const Error &e) {
+        EXPECT_EQ(e.Kind(), ErrorKind::InvalidArgument);
+        EXPECT_NE(std::string(e.what()).find(directory), std::string::npos) << e.what();
+    }
+    fs::remove(directory);
     int files = 0;
     for ([[maybe_unused]] const auto &e : fs::directory_iterator(dir / "sub")) ++files;
     EXPECT_EQ(files, 1);
