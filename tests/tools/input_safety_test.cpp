@@ -237,6 +237,18 @@ TEST_F(CliInputSafety, DenoiseRefusesItsInputInEverySpelling) {
     EXPECT_EQ(Listing(tool.Dir()), before) << "a refusal writes nothing";
 }
 
+TEST_F(CliInputSafety, OutputFormatsByExtensionInAnyCase) {
+    // .EXR and .Png name the formats as .exr and .png do; .TIF stays refused.
+    RenderFrame("f.exr");
+    ASSERT_EQ(Run("denoise f.exr --method bayes -o U.EXR").code, 0);
+    EXPECT_EQ(ReadBytes(Path("U.EXR")).substr(0, 4), std::string("\x76\x2f\x31\x01", 4));
+    ASSERT_EQ(Run("denoise f.exr --method bayes -o P.Png").code, 0);
+    EXPECT_EQ(ReadBytes(Path("P.Png")).substr(0, 4), "\x89PNG");
+    EXPECT_TRUE(IsError(Run("denoise f.exr --method bayes -o T.TIF"),
+                        {"unsupported extension '.tif'"}));
+    EXPECT_FALSE(fs::exists(Path("T.TIF")));
+}
+
 TEST_F(CliInputSafety, OverwriteInputKeepsEveryLayerAndTheNoisyColor) {
     RenderFrame("f.exr");
     fs::copy_file(Path("f.exr"), Path("copy.exr"));

@@ -50,7 +50,7 @@ SequenceFrame PlanOneFrame(const DenoiseOptions &opt, bool *inPlace) {
     if (!f.map.empty()) CheckOutputPath(f.map, {".png"}, "--auto-map");
     // No output may be a file this run reads, unless the user says so for -o.
     *inPlace = opt.overwriteInput && SameFile(f.output, f.input);
-    if (*inPlace && std::filesystem::path(f.output).extension() != ".exr")
+    if (*inPlace && LowerExtension(f.output) != ".exr")
         throw Error(
             fmt::format(
                 "--overwrite-input: '{}' would lose the frame's other layers; it needs an .exr "

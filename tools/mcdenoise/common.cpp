@@ -12,6 +12,7 @@
 #include "host/error.h"
 #include "host/io/frame.h"
 #include "tools/mcdenoise/commands.h"
+#include "tools/mcdenoise/path_guard.h"
 
 namespace mcd::tool {
 
@@ -58,7 +59,7 @@ void CheckOutputPath(const std::string &path, std::initializer_list<const char *
         throw Error(fmt::format("{} '{}' is a directory; give a file name ending in {}", role,
                                 path, list),
                     ErrorKind::InvalidArgument);
-    std::string ext = fs::path(path).extension().string();
+    std::string ext = LowerExtension(path);
     bool known = false;
     for (const char *e : extensions) known |= ext == e;
     if (ext.empty())
@@ -100,7 +101,7 @@ void CheckInputFile(const std::string &path, const std::string &role) {
 
 void WriteImage(const std::string &path, const Image &image,
                 const std::map<std::string, std::string> &metadata, const Image *alpha) {
-    if (std::filesystem::path(path).extension() == ".png")
+    if (LowerExtension(path) == ".png")
         io::WritePngWithAlpha(path, image, alpha);
     else if (alpha)
         io::WriteExr(path, {{"color", &image}, {"alpha", alpha}}, metadata);

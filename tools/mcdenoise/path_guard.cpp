@@ -4,6 +4,8 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -39,6 +41,13 @@ std::string Describe(const RolePath &p) {
 }
 
 }  // namespace
+
+std::string LowerExtension(const std::string &path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
 
 bool SameFile(const std::string &a, const std::string &b) {
     std::error_code ec;

@@ -17,6 +17,10 @@ struct RolePath {
     std::string hint;  // for an input: what to do instead, appended to the message
 };
 
+// The extension of `path` in lower case (".EXR" -> ".exr"): file formats by their name,
+// whatever its case.
+std::string LowerExtension(const std::string &path);
+
 // Whether a and b name one file: through symbolic or hard links when both exist, else
 // by their canonical spellings (so "./a/../f.exr" matches "f.exr").
 bool SameFile(const std::string &a, const std::string &b);

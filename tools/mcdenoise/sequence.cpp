@@ -10,6 +10,7 @@
 #include <system_error>
 
 #include "host/error.h"
+#include "tools/mcdenoise/path_guard.h"
 
 namespace mcd::tool {
 
@@ -103,7 +104,7 @@ std::string OutputPath(const std::string &role, const std::string &option,
                 role, option),
             ErrorKind::InvalidArgument);
     fs::path name = fs::path(frame.input).filename();
-    if (std::find(extensions.begin(), extensions.end(), name.extension().string()) ==
+    if (std::find(extensions.begin(), extensions.end(), LowerExtension(name.string())) ==
         extensions.end())
         name.replace_extension(extensions.front());
     return (fs::path(option) / name).string();
