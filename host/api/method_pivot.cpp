@@ -600,6 +600,16 @@ class Pivot : public FrontEndOf<PivotSettings> {
         PivotInputs in;
         in.color = &inputs.Get("color");
         in.pivot = &inputs.Get(layer);
+        // The pivot divides the colour channel by channel: the colour's shape, said here with
+        // the file and the layer (the frame's noise estimate reads it before the checks).
+        const Image &color = *in.color, &pivot = *in.pivot;
+        if (pivot.width != color.width || pivot.height != color.height ||
+            pivot.channels != color.channels)
+            throw Error(fmt::format("{}: layer '{}' is {}x{}x{}; the pivot method needs the "
+                                    "colour's {}x{}x{}",
+                                    inputs.Path(), layer, pivot.width, pivot.height,
+                                    pivot.channels, color.width, color.height, color.channels),
+                        ErrorKind::InvalidArgument);
         in.thresholds = options.thresholds;
         bool noise = options.noise == "auto";
         if (noise && inputs.Has("variance")) in.variance = &inputs.Get("variance");

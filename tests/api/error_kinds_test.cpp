@@ -122,6 +122,13 @@ TEST_F(ErrorKindsCli, EachReachableKindExitsWithItsStatus) {
     EXPECT_TRUE(
         Exits(Run("denoise plain.exr --frames 1 -o o.exr"), ErrorKind::InvalidArgument));
     EXPECT_TRUE(Exits(Run("denoise plain.exr --method rhf -o o.exr"), ErrorKind::MissingLayer));
+    // A layer of the wrong shape is the frame's fault, said with the file and the layer.
+    Image albedo2(6, 5, 2, 0.5f);
+    io::WriteExr(tool.Path("albedo2.exr").string(), {{"color", &color}, {"albedo", &albedo2}});
+    ToolResult shape = Run("denoise albedo2.exr --method pivot -o o.exr");
+    EXPECT_TRUE(Exits(shape, ErrorKind::InvalidArgument));
+    EXPECT_NE(shape.err.find("albedo2.exr: layer 'albedo' is 6x5x2"), std::string::npos)
+        << shape.err;
     EXPECT_TRUE(
         Exits(Run("denoise nan.exr --method bayes -o o.exr"), ErrorKind::NonFiniteInput));
     // A band of records (and its radius above and below) beyond one buffer binding.
