@@ -354,6 +354,24 @@ TEST_F(CliSequence, AFailingFrameIsReportedAndTheOthersGoOn) {
     EXPECT_TRUE(Contains(r.err, "mcdenoise: error: 2 of 3 frames failed")) << r.err;
 }
 
+TEST_F(CliSequence, AFrameOfAnotherSizeIsNoNeighbour) {
+    // Frame 2 of another size: every frame is written, frames 1 and 3 without it.
+    ToolResult r = tool.Run("render --size 24x16 --spp 4 --seed 40 -o f.0002.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    r = tool.Run("denoise 'f.####.exr' -o out/ --method bayes");
+    EXPECT_EQ(r.code, 0) << r.All();
+    EXPECT_EQ(Listing("out"),
+              (std::set<std::string>{"f.0001.exr", "f.0002.exr", "f.0003.exr"}));
+    for (const char *frame : {"f.0001.exr", "f.0003.exr"})
+        EXPECT_TRUE(
+            Contains(r.err, fmt::format("warning: {}: temporal: neighbour 2 (f.0002.exr) "
+                                        "left out, and those beyond it: it is 24x16, "
+                                        "this frame 16x16",
+                                        frame)))
+            << r.err;
+    EXPECT_EQ(Color("out/f.0002.exr").width, 24);
+}
+
 TEST_F(CliSequence, RefusesToWriteOverAnInput) {
     fs::create_directory(tool.Path("sub"));
     std::set<std::string> before = Listing();

@@ -480,12 +480,24 @@ Gathered DenoiseRun::Gather(size_t i, LoadedFrame &loaded) {
             auto it = byOffset.find(offset);
             if (it == byOffset.end()) break;
             const SequenceFrame &f = frames[it->second];
+            std::string why;
             try {
-                frameAt[offset] = &cache.Get(it->second).frame;
+                const Frame &neighbour = cache.Get(it->second).frame;
+                // A frame of another size (a resized shot) is no neighbour: it cannot align.
+                if (neighbour.width == loaded.frame.width &&
+                    neighbour.height == loaded.frame.height)
+                    frameAt[offset] = &neighbour;
+                else
+                    why =
+                        fmt::format("it is {}x{}, this frame {}x{}", neighbour.width,
+                                    neighbour.height, loaded.frame.width, loaded.frame.height);
             } catch (...) {
-                g.warnings.push_back(fmt::format(
-                    "temporal: neighbour {} ({}) left out, and those beyond it: {}", f.number,
-                    f.input, DescribeFailure(std::current_exception()).message));
+                why = DescribeFailure(std::current_exception()).message;
+            }
+            if (!why.empty()) {
+                g.warnings.push_back(
+                    fmt::format("temporal: neighbour {} ({}) left out, and those beyond it: {}",
+                                f.number, f.input, why));
                 break;
             }
         }
