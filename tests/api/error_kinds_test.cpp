@@ -131,6 +131,12 @@ TEST_F(ErrorKindsCli, EachReachableKindExitsWithItsStatus) {
         << shape.err;
     EXPECT_TRUE(
         Exits(Run("denoise nan.exr --method bayes -o o.exr"), ErrorKind::NonFiniteInput));
+    ToolResult reference = Run("denoise plain.exr --method bayes --reference nan.exr -o o.exr");
+    EXPECT_TRUE(Exits(reference, ErrorKind::NonFiniteInput));
+    EXPECT_NE(reference.err.find("--reference nan.exr: 1 NaN/Inf value, the first at pixel (3, "
+                                 "2), channel 1"),
+              std::string::npos)
+        << reference.err;
     // A band of records (and its radius above and below) beyond one buffer binding.
     EXPECT_TRUE(Exits(Run("bench tracing --sizes 32768x8 --spp 64 --radii 1000 --cpu-size 0"),
                       ErrorKind::OutOfMemory));

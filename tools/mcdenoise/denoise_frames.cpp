@@ -15,6 +15,7 @@
 #include <type_traits>
 #include <variant>
 
+#include "host/common/non_finite.h"
 #include "host/error.h"
 #include "host/io/conventions.h"
 #include "host/io/frame.h"
@@ -151,6 +152,13 @@ LoadedFrame LoadFrame(const SequenceFrame &f, const mcd::ReadOptions &read) {
     CheckInputFile(f.reference, "--reference");
     const Image &color = loaded.frame.Get("color");
     loaded.reference = io::ReadImage(f.reference);
+    // An error measured against NaN is no figure: refuse it, saying where.
+    if (const NonFiniteCount bad = CountNonFinite(loaded.reference); bad.count)
+        throw Error(fmt::format("--reference {}: {} NaN/Inf value{}, the first at pixel ({}, "
+                                "{}), channel {}",
+                                f.reference, bad.count, bad.count == 1 ? "" : "s", bad.x, bad.y,
+                                bad.channel),
+                    ErrorKind::NonFiniteInput);
     if (loaded.reference.width != color.width || loaded.reference.height != color.height)
         throw Error(fmt::format("reference {} is {}x{}, the frame {}x{}", f.reference,
                                 loaded.reference.width, loaded.reference.height, color.width,
