@@ -193,6 +193,24 @@ TEST_F(CliAudit, DumpDirectoryIsMadeOnlyWhenWritten) {
 
 // render refuses options that make no sense as a parse error (status 2), before any work and
 // without writing anything; an unknown scene or layer group as an unknown method is (1).
+// Another method's option runs (a script may change --method alone) and is said to be
+// unread; a sequence's option on one frame too. Options the method reads say nothing.
+TEST_F(CliAudit, DenoiseSaysWhichOptionsItDoesNotRead) {
+    Image color(8, 6, 3, 0.5f);
+    io::WriteExr(Path("f.exr").string(), {{"color", &color}});
+    ToolResult r = Run("denoise f.exr --method bayes --kappa 0.5 --temporal-radius 2 -o o.exr");
+    EXPECT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.err, "warning: --kappa is rhf's option: not read by --method bayes"))
+        << r.err;
+    EXPECT_TRUE(Contains(r.err,
+                         "warning: --temporal-radius is for sequences: not read on one "
+                         "frame"))
+        << r.err;
+    r = Run("denoise f.exr --method bayes --max-mean-shift 0.1 -o o.exr");
+    EXPECT_EQ(r.code, 0) << r.All();
+    EXPECT_FALSE(Contains(r.err, "not read")) << r.err;
+}
+
 TEST_F(CliAudit, RenderRefusesNonsenseBeforeWork) {
     using tool::ExitStatus;
     const std::string base = "render --size 4x4 --spp 1 -o r.exr ";

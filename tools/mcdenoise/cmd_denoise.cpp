@@ -106,8 +106,25 @@ void KeepTheFilesAlpha(const DenoiseOptions &opt, Method *method) {
     method->Set("alpha-rim", 0.f);
 }
 
+// Another method's options are accepted (a script may change --method alone) and said to be
+// unread; so are a sequence's on one frame.
+void WarnUnreadOptions(const DenoiseOptions &opt, const Method &method, bool sequence) {
+    Temporal temporal;
+    for (const ParamInfo &info : opt.methods.GivenNotTaken([&](const std::string &name) {
+             return method.HasParam(name) || (sequence && temporal.HasParam(name));
+         })) {
+        if (temporal.HasParam(info.name))
+            fmt::print(stderr, "warning: --{} is for sequences: not read on one frame\n",
+                       info.name);
+        else
+            fmt::print(stderr, "warning: --{} is {}'s option: not read by --method {}\n",
+                       info.name, info.method, opt.method);
+    }
+}
+
 void RunDenoise(const DenoiseOptions &opt) {
     Method method = opt.methods.Make(opt.method);
+    WarnUnreadOptions(opt, method, IsSequence(opt.inputs));
     DenoiseSettings settings;
     settings.explain = opt.explain;
     settings.device = opt.device.Options();

@@ -67,6 +67,14 @@ bool MethodOptions::Given(const std::string &name) const {
     return false;
 }
 
+std::vector<ParamInfo> MethodOptions::GivenNotTaken(
+    const std::function<bool(const std::string &)> &takes) const {
+    std::vector<ParamInfo> infos;
+    for (const auto &b : bound)
+        if (b->option->count() > 0 && !takes(b->info.name)) infos.push_back(b->info);
+    return infos;
+}
+
 Method MethodOptions::Make(const std::string &name) const {
     Method method(name);
     Apply(method);

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,6 +25,10 @@ class MethodOptions {
     Method Make(const std::string &name) const;
     // Whether the command line gave the parameter `name`.
     bool Given(const std::string &name) const;
+    // The parameters the command line gave whose name `takes` refuses: those of a method
+    // that does not run.
+    std::vector<ParamInfo> GivenNotTaken(
+        const std::function<bool(const std::string &)> &takes) const;
     // Set on `target` (a Method or a Temporal) the given options it has.
     template <class Target>
     void Apply(Target &target) const;
