@@ -177,6 +177,11 @@ int WriteBytes(const char *path, const std::vector<unsigned char> &bytes, char *
 int WriteImageUInt8(const char *path, const char *format, int width, int height, int channels,
                     const unsigned char *pixels, int unassociatedAlpha, char *error,
                     size_t errorSize) {
+    // Encode into memory and write the bytes here: the format's own file writes leave a
+    // failed write (a full disk) unreported, and the caller would rename a cut-off file over
+    // a good one. The memory outlives the writer, which may still write to it as it closes.
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput memory(bytes);
     std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(format);
     if (!out) {
         SetError(error, errorSize, OIIO::geterror());
@@ -185,11 +190,6 @@ int WriteImageUInt8(const char *path, const char *format, int width, int height,
     OIIO::ImageSpec spec(width, height, channels, OIIO::TypeUInt8);
     spec.attribute("oiio:ColorSpace", "sRGB");
     if (unassociatedAlpha) spec.attribute("oiio:UnassociatedAlpha", 1);
-    // Encode into memory and write the bytes here: the format's own file writes leave a
-    // failed write (a full disk) unreported, and the caller would rename a cut-off file over
-    // a good one.
-    std::vector<unsigned char> bytes;
-    OIIO::Filesystem::IOVecOutput memory(bytes);
     if (!out->supports("ioproxy") || !out->set_ioproxy(&memory)) {
         SetError(error, errorSize, std::string(format) + " cannot be encoded into memory");
         return 0;

@@ -234,15 +234,11 @@ std::vector<DeviceInfo> ListDevices() {
 
 namespace {
 
-// The first `most` bytes of the file at `path` (all by default), or none where it is absent.
-// A path that is there but no regular file (a directory) is the caller's mistake: an error
-// naming it.
+// The first `most` bytes of the file at `path` (all by default), or none where it is absent
+// or no regular file. Never throws: the context's destructor reads it too.
 std::vector<char> ReadCacheFile(const std::string &path, size_t most = SIZE_MAX) {
     std::error_code ec;
-    if (path.empty() || !std::filesystem::exists(path, ec)) return {};
-    if (!std::filesystem::is_regular_file(path, ec))
-        throw Error(fmt::format("pipeline cache '{}' is not a regular file", path),
-                    ErrorKind::InvalidArgument);
+    if (path.empty() || !std::filesystem::is_regular_file(path, ec)) return {};
     std::ifstream in(path, std::ios::binary);
     std::vector<char> data;
     for (std::istreambuf_iterator<char> it(in), end; it != end && data.size() < most; ++it)
@@ -250,15 +246,17 @@ std::vector<char> ReadCacheFile(const std::string &path, size_t most = SIZE_MAX)
     return data;
 }
 
+// The 32-bit word of a pipeline cache's header at byte `at`.
+uint32_t CacheWord(const std::vector<char> &data, size_t at) {
+    uint32_t v;
+    std::memcpy(&v, data.data() + at, 4);
+    return v;
+}
+
 // Whether `data` opens with a pipeline cache's header (Vulkan spec, "Pipeline Cache Header").
 bool IsPipelineCache(const std::vector<char> &data) {
-    auto word = [&](size_t at) {
-        uint32_t v;
-        std::memcpy(&v, data.data() + at, 4);
-        return v;
-    };
-    return data.size() >= 16 + VK_UUID_SIZE && word(0) >= 16 + VK_UUID_SIZE &&
-           word(4) == VK_PIPELINE_CACHE_HEADER_VERSION_ONE;
+    return data.size() >= 16 + VK_UUID_SIZE && CacheWord(data, 0) >= 16 + VK_UUID_SIZE &&
+           CacheWord(data, 4) == VK_PIPELINE_CACHE_HEADER_VERSION_ONE;
 }
 
 // The build threads: one per core, at most 8, unless the options say how many.
@@ -381,22 +379,23 @@ void Context::Destroy() {
 }
 
 void Context::LoadPipelineCache() {
+    // A path that is there but no regular file (a directory) is the caller's mistake.
+    std::error_code ec;
+    if (!pipelineCachePath.empty() && std::filesystem::exists(pipelineCachePath, ec) &&
+        !std::filesystem::is_regular_file(pipelineCachePath, ec))
+        throw Error(fmt::format("pipeline cache '{}' is not a regular file", pipelineCachePath),
+                    ErrorKind::InvalidArgument);
     std::vector<char> data = ReadCacheFile(pipelineCachePath);
     // The header: a file from another device or driver version is left unread rather than
     // handed to the driver.
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(physicalDevice, &props);
-    auto word = [&](size_t at) {
-        uint32_t v;
-        std::memcpy(&v, data.data() + at, 4);
-        return v;
-    };
     bool isCache = IsPipelineCache(data);
-    bool fits = isCache && word(8) == props.vendorID && word(12) == props.deviceID &&
+    bool fits = isCache && CacheWord(data, 8) == props.vendorID &&
+                CacheWord(data, 12) == props.deviceID &&
                 std::memcmp(data.data() + 16, props.pipelineCacheUUID, VK_UUID_SIZE) == 0;
     // Only a pipeline cache (any device's) or no file is replaced at the end: a path given
     // by mistake (a frame) is left as it was.
-    std::error_code ec;
     pipelineCacheWritable = !pipelineCachePath.empty() &&
                             (isCache || !std::filesystem::exists(pipelineCachePath, ec));
     if (!fits) data.clear();

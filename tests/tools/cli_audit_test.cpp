@@ -191,8 +191,6 @@ TEST_F(CliAudit, DumpDirectoryIsMadeOnlyWhenWritten) {
     EXPECT_FALSE(Listing(Path("deep/bands")).empty());
 }
 
-// render refuses options that make no sense as a parse error (status 2), before any work and
-// without writing anything; an unknown scene or layer group as an unknown method is (1).
 // Another method's option runs (a script may change --method alone) and is said to be
 // unread; a sequence's option on one frame too. Options the method reads say nothing.
 TEST_F(CliAudit, DenoiseSaysWhichOptionsItDoesNotRead) {
@@ -203,14 +201,36 @@ TEST_F(CliAudit, DenoiseSaysWhichOptionsItDoesNotRead) {
     EXPECT_TRUE(Contains(r.err, "warning: --kappa is rhf's option: not read by --method bayes"))
         << r.err;
     EXPECT_TRUE(Contains(r.err,
-                         "warning: --temporal-radius is for sequences: not read on one "
-                         "frame"))
+                         "warning: --temporal-radius is for sequences gathered in time: not "
+                         "read on one frame"))
         << r.err;
-    r = Run("denoise f.exr --method bayes --max-mean-shift 0.1 -o o.exr");
+    // Read: every method's option by auto (its candidates'), bayes's own by bayes, a
+    // sequence's by a sequence.
+    for (const char *args :
+         {"denoise f.exr --kappa 0.5 -o o.exr",
+          "denoise f.exr --method bayes --bayes-levels 3 -o o.exr",
+          "denoise 'g.####.exr' --method bayes --temporal-radius 2 -o out/"}) {
+        if (Contains(args, "g.####")) {
+            fs::copy_file(Path("f.exr"), Path("g.0001.exr"),
+                          fs::copy_options::overwrite_existing);
+            fs::copy_file(Path("f.exr"), Path("g.0002.exr"),
+                          fs::copy_options::overwrite_existing);
+        }
+        r = Run(args);
+        EXPECT_EQ(r.code, 0) << args << "\n" << r.All();
+        EXPECT_FALSE(Contains(r.err, "not read")) << args << "\n" << r.err;
+    }
+    // A sequence's option beside --no-temporal is not read either.
+    r = Run("denoise 'g.####.exr' --method bayes --no-temporal --temporal-radius 2 -o out2/");
     EXPECT_EQ(r.code, 0) << r.All();
-    EXPECT_FALSE(Contains(r.err, "not read")) << r.err;
+    EXPECT_TRUE(Contains(r.err,
+                         "warning: --temporal-radius is for sequences gathered in time: "
+                         "not read with --no-temporal"))
+        << r.err;
 }
 
+// render refuses options that make no sense as a parse error (status 2), before any work and
+// without writing anything; an unknown scene or layer group as an unknown method is (1).
 TEST_F(CliAudit, RenderRefusesNonsenseBeforeWork) {
     using tool::ExitStatus;
     const std::string base = "render --size 4x4 --spp 1 -o r.exr ";

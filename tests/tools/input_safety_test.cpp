@@ -245,7 +245,7 @@ TEST_F(CliInputSafety, OutputFormatsByExtensionInAnyCase) {
     ASSERT_EQ(Run("denoise f.exr --method bayes -o P.Png").code, 0);
     EXPECT_EQ(ReadBytes(Path("P.Png")).substr(0, 4), "\x89PNG");
     EXPECT_TRUE(IsError(Run("denoise f.exr --method bayes -o T.TIF"),
-                        {"unsupported extension '.tif'"}));
+                        {"unsupported extension '.TIF'"}));
     EXPECT_FALSE(fs::exists(Path("T.TIF")));
 }
 

@@ -110,12 +110,13 @@ void KeepTheFilesAlpha(const DenoiseOptions &opt, Method *method) {
 // unread; so are a sequence's on one frame.
 void WarnUnreadOptions(const DenoiseOptions &opt, const Method &method, bool sequence) {
     Temporal temporal;
+    const bool gathered = sequence && !opt.noTemporal;
     for (const ParamInfo &info : opt.methods.GivenNotTaken([&](const std::string &name) {
-             return method.HasParam(name) || (sequence && temporal.HasParam(name));
+             return method.HasParam(name) || (gathered && temporal.HasParam(name));
          })) {
         if (temporal.HasParam(info.name))
-            fmt::print(stderr, "warning: --{} is for sequences: not read on one frame\n",
-                       info.name);
+            fmt::print(stderr, "warning: --{} is for sequences gathered in time: not read {}\n",
+                       info.name, sequence ? "with --no-temporal" : "on one frame");
         else
             fmt::print(stderr, "warning: --{} is {}'s option: not read by --method {}\n",
                        info.name, info.method, opt.method);

@@ -67,9 +67,9 @@ void CheckOutputPath(const std::string &path, std::initializer_list<const char *
                                 path, list),
                     ErrorKind::InvalidArgument);
     if (!known)
-        throw Error(
-            fmt::format("{} '{}': unsupported extension '{}' (use {})", role, path, ext, list),
-            ErrorKind::InvalidArgument);
+        throw Error(fmt::format("{} '{}': unsupported extension '{}' (use {})", role, path,
+                                fs::path(path).extension().string(), list),
+                    ErrorKind::InvalidArgument);
     fs::path dir = fs::path(path).parent_path();
     if (!dir.empty() && !fs::is_directory(dir, ec))
         throw Error(
