@@ -14,6 +14,7 @@
 #include "host/api/registry.h"
 #include "host/api/tiled_run.h"
 #include "host/api/views.h"
+#include "host/io/hints.h"
 #include "host/methods/pivot.h"
 
 namespace mcd {
@@ -86,6 +87,11 @@ Demodulation Demodulate(api::Inputs &inputs, const api::FrontEnd &method, const 
                         const std::string &layer) {
     if (std::string why = method.Undemodulable(frame, layer); !why.empty())
         throw Error(fmt::format("--demodulate {}: {}", layer, why), ErrorKind::InvalidArgument);
+    if (!frame.Has(layer))
+        throw Error(ErrorKind::MissingLayer,
+                    fmt::format("{}: --demodulate {} needs a layer the frame lacks: {}",
+                                frame.path.empty() ? "the frame" : frame.path, layer,
+                                io::Lacks(frame, fmt::format("no {} layer", layer), {layer})));
     Demodulation d;
     d.layer = layer;
     d.guide = inputs.Get(layer);

@@ -122,6 +122,14 @@ TEST_F(ErrorKindsCli, EachReachableKindExitsWithItsStatus) {
     EXPECT_TRUE(
         Exits(Run("denoise plain.exr --frames 1 -o o.exr"), ErrorKind::InvalidArgument));
     EXPECT_TRUE(Exits(Run("denoise plain.exr --method rhf -o o.exr"), ErrorKind::MissingLayer));
+    // The guide --demodulate names, missing: the layer named and how to get it, not the list
+    // of the layers read.
+    ToolResult guide = Run("denoise plain.exr --method bayes --demodulate albedo -o o.exr");
+    EXPECT_TRUE(Exits(guide, ErrorKind::MissingLayer));
+    EXPECT_NE(
+        guide.err.find("--demodulate albedo needs a layer the frame lacks: no albedo layer"),
+        std::string::npos)
+        << guide.err;
     // A layer of the wrong shape is the frame's fault, said with the file and the layer.
     Image albedo2(6, 5, 2, 0.5f);
     io::WriteExr(tool.Path("albedo2.exr").string(), {{"color", &color}, {"albedo", &albedo2}});
