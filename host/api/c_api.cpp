@@ -183,16 +183,16 @@ int mcdGetFrameHeight(MCDFrame frame) {
 int mcdGetFrameLayerCount(MCDFrame frame) {
     return Guarded(0, [&] {
         Require(frame, "the frame");
-        frame->names = frame->frame.Names();
-        return int(frame->names.size());
+        return int(frame->frame.Names().size());
     });
 }
 
 const char *mcdGetFrameLayerName(MCDFrame frame, int index) {
     return Guarded<const char *>(nullptr, [&] {
         Require(frame, "the frame");
-        frame->names = frame->frame.Names();
-        return Line(frame->names, index);
+        const std::vector<std::string> names = frame->frame.Names();
+        const char *name = Line(names, index);
+        return name ? frame->handed.Keep(name) : nullptr;
     });
 }
 

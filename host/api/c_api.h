@@ -3,6 +3,7 @@
 #pragma once
 
 #include <new>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -14,14 +15,22 @@ struct MCDDeviceImpl {
     std::string name;
 };
 
+// The strings a handle handed out, each kept until the handle is released (the header's
+// promise): a set's elements never move, and a string asked for again is not stored twice.
+struct HandedStrings {
+    const char *Keep(const std::string &text) { return kept.insert(text).first->c_str(); }
+    std::set<std::string> kept;
+};
+
 struct MCDFrameImpl {
     mcd::Frame frame;
-    std::vector<std::string> names;  // mcdGetFrameLayerName's strings
+    HandedStrings handed;  // mcdGetFrameLayerName's strings
 };
 
 struct MCDMethodImpl {
     mcd::Method method;
-    std::string summary, text;  // strings handed out
+    std::string summary;
+    HandedStrings handed;  // mcdGetMethodParamText's strings
     MCDProgressFunction progress = nullptr;
     void *progressUser = nullptr;
 };

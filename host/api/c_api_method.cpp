@@ -94,8 +94,7 @@ const char *mcdGetMethodParamText(MCDMethod method, const char *param) {
     return Guarded<const char *>(nullptr, [&] {
         Require(method, "the method");
         Require(param, "the parameter's name");
-        method->text = api::ParamValueText(method->method.Get(param));
-        return method->text.c_str();
+        return method->handed.Keep(api::ParamValueText(method->method.Get(param)));
     });
 }
 

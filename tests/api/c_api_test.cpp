@@ -204,6 +204,37 @@ TEST_F(CApi, MethodsAndFramesAreListed) {
     mcdReleaseFrame(frame);
 }
 
+// Strings the API hands out stay valid, each with its own text, until their handle is
+// released (the header's promise), however many calls come between.
+TEST_F(CApi, HandedStringsLiveAsLongAsTheirHandle) {
+    MCDMethod method = mcdNewMethod("rhf");
+    const char *kappa = mcdGetMethodParamText(method, "kappa");
+    const char *nonFinite = mcdGetMethodParamText(method, "non-finite");
+    ASSERT_NE(kappa, nullptr);
+    const std::string kappaText = kappa;
+    EXPECT_NE(kappaText, "refuse");
+    EXPECT_STREQ(nonFinite, "refuse");
+    Layers layers;
+    MCDFrame frame = layers.NewFrame();
+    const char *first = mcdGetFrameLayerName(frame, 0);
+    const char *second = mcdGetFrameLayerName(frame, 1);
+    // Calls that once replaced the strings, then allocations that would reuse freed memory.
+    std::vector<std::vector<std::string>> churn;
+    for (int i = 0; i < 64; ++i) {
+        mcdGetFrameLayerCount(frame);
+        mcdGetFrameLayerName(frame, i % 2);
+        mcdGetMethodParamText(method, i % 2 ? "kappa" : "knn");
+        churn.emplace_back(2, std::string("zzzzzzzz"));
+    }
+    EXPECT_STREQ(first, "color");
+    EXPECT_STREQ(second, "variance");
+    EXPECT_EQ(kappa, mcdGetMethodParamText(method, "kappa"));
+    EXPECT_EQ(std::string(kappa), kappaText);
+    EXPECT_STREQ(nonFinite, "refuse");
+    mcdReleaseFrame(frame);
+    mcdReleaseMethod(method);
+}
+
 TEST_F(CApi, FilesRoundTripThroughViews) {
     Layers layers;
     std::string path = ::testing::TempDir() + "c_api_round_trip.exr";
