@@ -115,6 +115,12 @@ MCDResult mcdRunMethod(MCDMethod method, MCDDevice device, MCDFrame frame,
         Require(device, "the device");
         Require(frame, "the frame");
         RunOptions run;
+        // A view given without its memory is a mistake, not "no output view" (NULL is).
+        if (output && !output->data)
+            throw Error(
+                "the output view has no data (pass NULL to keep the result in the "
+                "MCDResult)",
+                ErrorKind::InvalidArgument);
         if (output) run.output = OutputViewOf(*output);
         bool stop = false;
         Monitor(method, stop, run);

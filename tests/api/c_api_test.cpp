@@ -157,6 +157,16 @@ TEST_F(CApi, ErrorsAreCodesWithTheLibrarysMessage) {
     MCDView wrong = mcdInterleaved(small.data(), MCD_FORMAT_FLOAT, 2, 2, 1);
     EXPECT_FALSE(mcdSetFrameLayer(frame, "depth", &wrong));
     EXPECT_EQ(TakeError().first, MCD_ERROR_INVALID_ARGUMENT);
+    // An output view without its memory: refused, not taken for no view.
+    MCDFrame good = layers.NewFrame();
+    MCDMethod run = mcdNewMethod("bayes");
+    MCDView noData = mcdInterleaved(nullptr, MCD_FORMAT_FLOAT, layers.w, layers.h, 3);
+    EXPECT_EQ(mcdRunMethod(run, SharedDevice(), good, &noData), nullptr);
+    std::tie(code, message) = TakeError();
+    EXPECT_EQ(code, MCD_ERROR_INVALID_ARGUMENT) << message;
+    EXPECT_NE(message.find("the output view has no data"), std::string::npos) << message;
+    mcdReleaseMethod(run);
+    mcdReleaseFrame(good);
     EXPECT_STREQ(mcdErrorName(MCD_ERROR_NON_FINITE_INPUT), "non-finite input");
     EXPECT_STREQ(mcdErrorName(MCD_ERROR_CANCELLED), "cancelled");
     mcdReleaseFrame(frame);
