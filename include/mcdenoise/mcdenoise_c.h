@@ -127,8 +127,8 @@ void mcdSetMethodProgressFunction(MCDMethod method, MCDProgressFunction function
 /* Run the method on the frame. `output` (NULL: keep the result in the MCDResult; a view
  * whose data is NULL is refused) must be the frame's size with the color's channels, or one
  * more for the result's alpha (the frame's, alpha-rim's shares moved; 1 where it has none);
- * it is written only when the run succeeds. An output without the alpha channel runs without alpha-rim (its moved alpha
- * would not reach the caller; the plan says so). NULL on failure. */
+ * it is written only when the run succeeds. An output without the alpha channel runs without
+ * alpha-rim (its moved alpha would not reach the caller; the plan says so). NULL on failure. */
 MCDResult mcdRunMethod(MCDMethod method, MCDDevice device, MCDFrame frame,
                        const MCDView *output);
 void mcdReleaseResult(MCDResult result);
