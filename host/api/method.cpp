@@ -147,9 +147,10 @@ void RefuseMissing(const api::FrontEnd &method, const Frame &frame,
                    const std::string &demodulate) {
     if (!demodulate.empty() || dynamic_cast<const api::AutoFrontEnd *>(&method)) return;
     if (std::string lacks = method.Missing(frame); !lacks.empty())
-        throw Error(ErrorKind::MissingLayer,
-                    fmt::format("{}: {} needs layers the frame lacks: {}", frame.path,
-                                method.Name(), lacks));
+        throw Error(
+            ErrorKind::MissingLayer,
+            fmt::format("{}: {} needs layers the frame lacks: {}",
+                        frame.path.empty() ? "the frame" : frame.path, method.Name(), lacks));
 }
 
 // Mean linear luminance (Rec. 709; one or two channels: the first), over finite pixels.
@@ -416,6 +417,11 @@ void Method::Set(const std::string &name, double value) {
     const ParamInfo &info = impl->Info(name);
     if (info.type == ParamType::Int && value == std::floor(value) && std::abs(value) < 2e9)
         return Set(name, ParamValue(int(value)));
+    // A whole number beyond an int is no other type's value: it is out of the range.
+    if (info.type == ParamType::Int && value == std::floor(value))
+        throw Error(fmt::format("{}: parameter '{}' is {:.0f}, outside [{}, {}]", Name(), name,
+                                value, info.min, info.max),
+                    ErrorKind::InvalidArgument);
     Set(name, ParamValue(float(value)));
 }
 

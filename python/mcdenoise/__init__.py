@@ -113,8 +113,10 @@ class _Method:
         core, key = _capi.core, name.replace("_", "-").encode()
         if isinstance(value, (bool, np.bool_)):
             ok = core.mcdSetMethodBool(self.handle, key, bool(value))
-        elif isinstance(value, (int, np.integer)):
+        elif isinstance(value, (int, np.integer)) and -2**31 <= int(value) < 2**31:
             ok = core.mcdSetMethodInt(self.handle, key, int(value))
+        elif isinstance(value, (int, np.integer)):  # beyond a C int: the range check says so
+            ok = core.mcdSetMethodFloat(self.handle, key, float(value))
         elif isinstance(value, (float, np.floating)):
             ok = core.mcdSetMethodFloat(self.handle, key, float(value))
         elif isinstance(value, str):
@@ -169,6 +171,9 @@ def _layer_array(array, name):
     if array.ndim != 3:
         raise InvalidArgumentError(f"layer '{name}': an array of shape {array.shape}; "
                                    "expected (height, width) or (height, width, channels)")
+    # A stride of 0 (a broadcast) means "packed" to the C views: such an array is copied.
+    if any(stride == 0 and size > 1 for stride, size in zip(array.strides, array.shape)):
+        array = np.ascontiguousarray(array)
     return array
 
 

@@ -45,6 +45,15 @@ def test_strided_arrays_give_the_contiguous_bits():
     assert np.array_equal(mcdenoise.denoise(planar, method="bayes"), expected)
     flipped = np.ascontiguousarray(color[::-1])[::-1]
     assert np.array_equal(mcdenoise.denoise(flipped, method="bayes"), expected)
+    # Broadcast arrays (strides of 0) give their copy's bits.
+    row = color[:1]
+    broadcast = np.broadcast_to(row, color.shape)
+    assert broadcast.strides[0] == 0
+    assert np.array_equal(mcdenoise.denoise(broadcast, method="bayes"),
+                          mcdenoise.denoise(np.ascontiguousarray(broadcast), method="bayes"))
+    grey = np.broadcast_to(color[:, :, :1], color.shape)
+    assert np.array_equal(mcdenoise.denoise(grey, method="bayes"),
+                          mcdenoise.denoise(np.ascontiguousarray(grey), method="bayes"))
 
 
 def test_alpha_passes_through_and_shapes_are_kept():
@@ -114,9 +123,11 @@ def test_errors_are_exceptions_per_code(tmp_path):
         mcdenoise.denoise(color, method="nope")
     with pytest.raises(mcdenoise.InvalidArgumentError, match="kappa"):
         mcdenoise.denoise(color, method="rhf", kappa=-1.0)
+    with pytest.raises(mcdenoise.InvalidArgumentError, match="4294967298"):
+        mcdenoise.denoise(color, method="rhf", knn=2**32 + 2)  # not cut to a C int
     with pytest.raises(ValueError):  # InvalidArgumentError is a ValueError too
         mcdenoise.denoise(color, method="rhf", no_such_parameter=1)
-    with pytest.raises(mcdenoise.MissingLayerError, match="the frame has no layer 'albedo'"):
+    with pytest.raises(mcdenoise.MissingLayerError, match="--demodulate albedo needs a layer the frame lacks"):
         mcdenoise.denoise(color, method="bayes", demodulate="albedo")
     with pytest.raises(mcdenoise.MissingLayerError, match="histogram"):
         mcdenoise.denoise(color, method="rhf")
