@@ -511,6 +511,8 @@ std::vector<std::string> Method::Uses() const {
 }
 
 std::string Method::Missing(const Frame &frame) const {
+    // Every method denoises the colour: a frame without one runs none.
+    if (!frame.Has("color")) return "no color layer";
     return impl->frontEnd->Missing(frame);
 }
 

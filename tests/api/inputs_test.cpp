@@ -51,6 +51,20 @@ TEST(FrameSamplesPerPixel, LayerThenMetadataThenUnknown) {
     }
 }
 
+// Missing() is "" only where the method can run: never on a frame without colour (none, or
+// a layer named otherwise), whatever the method's own layers.
+TEST(MethodMissing, AFrameWithoutColourRunsNoMethod) {
+    Frame empty, misnamed;
+    misnamed.layers["colour"] = Image(4, 3, 3, 0.5f);
+    for (const std::string &name : {"auto", "bayes", "nfor", "pivot", "awr", "rhf"}) {
+        EXPECT_EQ(Method(name).Missing(empty), "no color layer") << name;
+        EXPECT_EQ(Method(name).Missing(misnamed), "no color layer") << name;
+    }
+    Frame plain;
+    plain.layers["color"] = Image(4, 3, 3, 0.5f);
+    EXPECT_EQ(Method("bayes").Missing(plain), "");
+}
+
 TEST(InputsLayerId, FrameLayersAreTheirValuesHash) {
     const Frame frame = LayeredFrame(23, 17);
     api::Inputs inputs(frame, false, "rhf");
