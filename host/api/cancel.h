@@ -27,8 +27,10 @@ class CancelScope {
 
     void ThrowIfCancelled() const {
         if (cancelled)
-            throw Error("the run was cancelled (RunOptions::cancel); nothing was written",
-                        ErrorKind::Cancelled);
+            throw Error(
+                "the run was cancelled (its cancel flag or progress function); nothing was "
+                "written",
+                ErrorKind::Cancelled);
     }
 
   private:

@@ -103,6 +103,8 @@ def methods():
 
 class _Method:
     def __init__(self, name):
+        if not isinstance(name, str):
+            raise InvalidArgumentError(f"method: {name!r} is not a method's name (a str)")
         self.handle = _check(_capi.core.mcdNewMethod(name.encode()))
 
     def __del__(self):
@@ -140,7 +142,8 @@ class Device:
     best. Its kernels are built on first use and kept, so keep one for many calls."""
 
     def __init__(self, name=None):
-        self.handle = _check(_capi.core.mcdNewDevice(name.encode() if name else None))
+        self.handle = _check(_capi.core.mcdNewDevice(
+            str(name).encode() if name is not None else None))
         self.name = _text(_capi.core.mcdGetDeviceName(self.handle))
 
     def __del__(self):
@@ -153,6 +156,11 @@ _default_device = None
 
 def _device(device):
     global _default_device
+    if isinstance(device, (str, int)):  # as Device(name) takes it
+        return Device(device)
+    if device is not None and not isinstance(device, Device):
+        raise InvalidArgumentError(f"device: {type(device).__name__} is not a Device, a "
+                                   "name or an index")
     if device is not None:
         return device
     if _default_device is None:
@@ -164,6 +172,9 @@ def _layer_array(array, name):
     """`array` as a (height, width, channels) float32 or float16 array, without a copy
     when it is one already (any strides)."""
     array = np.asarray(array)
+    if array.dtype.kind not in "fiub":  # complex, text, objects: no image
+        raise InvalidArgumentError(f"layer '{name}': an array of {array.dtype}; expected "
+                                   "float32 or float16 (or real numbers to convert)")
     if array.dtype not in (np.float32, np.float16):
         array = array.astype(np.float32)
     if array.ndim == 2:
@@ -195,6 +206,8 @@ class _Frame:
             _capi.core.mcdReleaseFrame(self.handle)
 
     def set(self, name, array):
+        if not isinstance(name, str):
+            raise InvalidArgumentError(f"layer name {name!r} is not a str")
         array = _layer_array(array, name)
         self.arrays.append(array)
         view = _view(array)
@@ -250,8 +263,8 @@ def denoise(color, method="auto", albedo=None, normal=None, depth=None, variance
 
     out = np.empty(color.shape[:2] + (color.shape[2] + rgba,), color.dtype)
     view = _view(out)
-    result = _capi.core.mcdRunMethod(m.handle, _device(device).handle, frame.handle,
-                                     ctypes.byref(view))
+    dev = _device(device)  # held through the run: one made here from a name is released after
+    result = _capi.core.mcdRunMethod(m.handle, dev.handle, frame.handle, ctypes.byref(view))
     if failures:  # the progress function raised: the run was cancelled for it
         _capi.core.mcdReleaseResult(result)
         _capi.core.mcdGetError(None)
@@ -286,6 +299,9 @@ def read_frame(path, layers=None):
         view = _view(array)
         _check(core.mcdCopyFrameLayer(frame.handle, name, ctypes.byref(view)))
         result[_text(name)] = array
+    lacking = [n for n in layers or [] if n not in result]
+    if lacking:
+        raise MissingLayerError(f"{path} has no layer {', '.join(map(repr, lacking))}")
     return result
 
 

@@ -142,6 +142,17 @@ def test_errors_are_exceptions_per_code(tmp_path):
         out = mcdenoise.denoise(bad, method="bayes", non_finite="zero")
     assert np.isfinite(out).all()
     assert any(issubclass(w.category, mcdenoise.LibraryWarning) for w in caught)
+    with pytest.raises(mcdenoise.InvalidArgumentError, match="method"):
+        mcdenoise.denoise(color, method=None)
+    with pytest.raises(mcdenoise.InvalidArgumentError, match="layer name"):
+        mcdenoise.denoise(color, layers={1: color})
+    with pytest.raises(mcdenoise.InvalidArgumentError, match="complex"):
+        mcdenoise.denoise(color.astype(np.complex64))
+    with pytest.raises(mcdenoise.InvalidArgumentError, match="device"):
+        mcdenoise.denoise(color, device=3.5)
+    assert mcdenoise.denoise(color, method="bayes", device=0).shape == color.shape
+    with pytest.raises(mcdenoise.MissingLayerError, match="has no layer 'nope'"):
+        mcdenoise.read_frame(GLOSSY, layers=["color", "nope"])
     with pytest.raises(mcdenoise.IoError) as missing:
         mcdenoise.read_frame(tmp_path / "absent.exr")
     assert isinstance(missing.value, OSError) and "absent.exr" in str(missing.value)
