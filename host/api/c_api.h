@@ -2,6 +2,7 @@
 // core's functions (c_api.cpp) and the I/O library's (host/io/c_api_io.cpp).
 #pragma once
 
+#include <mutex>
 #include <new>
 #include <set>
 #include <string>
@@ -16,10 +17,15 @@ struct MCDDeviceImpl {
 };
 
 // The strings a handle handed out, each kept until the handle is released (the header's
-// promise): a set's elements never move, and a string asked for again is not stored twice.
+// promise): a set's elements never move, and a string asked for again is not stored twice
+// (so the set grows by the distinct texts read). Locked: getters on one handle may overlap.
 struct HandedStrings {
-    const char *Keep(const std::string &text) { return kept.insert(text).first->c_str(); }
+    const char *Keep(const std::string &text) {
+        std::lock_guard<std::mutex> lock(mutex);
+        return kept.insert(text).first->c_str();
+    }
     std::set<std::string> kept;
+    std::mutex mutex;
 };
 
 struct MCDFrameImpl {

@@ -28,8 +28,8 @@ class CancelScope {
     void ThrowIfCancelled() const {
         if (cancelled)
             throw Error(
-                "the run was cancelled (its cancel flag or progress function); nothing was "
-                "written",
+                "the run was cancelled (its cancel or progress function asked to stop); "
+                "nothing was written",
                 ErrorKind::Cancelled);
     }
 

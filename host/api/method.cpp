@@ -511,9 +511,11 @@ std::vector<std::string> Method::Uses() const {
 }
 
 std::string Method::Missing(const Frame &frame) const {
-    // Every method denoises the colour: a frame without one runs none.
-    if (!frame.Has("color")) return "no color layer";
-    return impl->frontEnd->Missing(frame);
+    // Every method denoises the colour: a frame without one runs none (said first, then what
+    // else the method lacks).
+    std::string lacks = impl->frontEnd->Missing(frame);
+    if (frame.Has("color")) return lacks;
+    return lacks.empty() ? "no color layer" : "no color layer; " + lacks;
 }
 
 Result Method::Run(Device &device, const Frame &frame, const RunOptions &options) const {

@@ -6,7 +6,8 @@
     out = mcdenoise.denoise(frame["color"], method="rhf", layers=frame, kappa=0.6)
 
 Arrays are (height, width, channels) or (height, width), float32 or float16, of any
-strides: the library reads them where they are (no copy before its own upload). A colour
+strides: the library reads them where they are (no copy before its own upload; a broadcast
+array, of stride 0, is copied first; other real types are converted to float32). A colour
 with 4 channels is RGB and alpha; the result's fourth channel is that alpha, except that a
 pixel of alpha 0 beside covered ones takes the alpha_rim share (0.02) of their colour and
 alpha alike (the renderer's pixel filter past an edge; alpha_rim=0 keeps the alpha as it
@@ -17,6 +18,7 @@ warnings are Python warnings (mcdenoise.LibraryWarning).
 """
 
 import ctypes
+import math
 import warnings
 
 import numpy as np
@@ -118,7 +120,9 @@ class _Method:
         elif isinstance(value, (int, np.integer)) and -2**31 <= int(value) < 2**31:
             ok = core.mcdSetMethodInt(self.handle, key, int(value))
         elif isinstance(value, (int, np.integer)):  # beyond a C int: the range check says so
-            ok = core.mcdSetMethodFloat(self.handle, key, float(value))
+            big = int(value)
+            ok = core.mcdSetMethodFloat(self.handle, key, float(big) if abs(big) < 2**1000
+                                        else math.copysign(math.inf, big))
         elif isinstance(value, (float, np.floating)):
             ok = core.mcdSetMethodFloat(self.handle, key, float(value))
         elif isinstance(value, str):
@@ -156,8 +160,10 @@ _default_device = None
 
 def _device(device):
     global _default_device
-    if isinstance(device, (str, int)):  # as Device(name) takes it
-        return Device(device)
+    if isinstance(device, (bool, np.bool_)):
+        raise InvalidArgumentError("device: a bool is not a Device, a name or an index")
+    if isinstance(device, (str, int, np.integer)):  # as Device(name) takes it
+        return Device(device if isinstance(device, str) else int(device))
     if device is not None and not isinstance(device, Device):
         raise InvalidArgumentError(f"device: {type(device).__name__} is not a Device, a "
                                    "name or an index")
@@ -170,7 +176,7 @@ def _device(device):
 
 def _layer_array(array, name):
     """`array` as a (height, width, channels) float32 or float16 array, without a copy
-    when it is one already (any strides)."""
+    when it is one already (any strides but a broadcast's 0)."""
     array = np.asarray(array)
     if array.dtype.kind not in "fiub":  # complex, text, objects: no image
         raise InvalidArgumentError(f"layer '{name}': an array of {array.dtype}; expected "
@@ -234,7 +240,8 @@ def denoise(color, method="auto", albedo=None, normal=None, depth=None, variance
     named arguments taking precedence. params: the method's parameters by their command
     line names, "-" written "_" (kappa=0.6, non_finite="zero"). progress(stage, done,
     total): called as the run advances; returning False cancels it (CancelledError).
-    An RGBA `color` returns RGBA, the alpha with alpha_rim's shares moved; a 3-channel one
+    device: a Device (its pipelines kept across calls), a name or an index (a device opened
+    for this call), or None (the default device, kept). An RGBA `color` returns RGBA, the alpha with alpha_rim's shares moved; a 3-channel one
     returns 3 channels and runs without alpha_rim (its alpha would not come back).
     """
     flat = np.ndim(color) == 2
@@ -283,9 +290,14 @@ def denoise(color, method="auto", albedo=None, normal=None, depth=None, variance
 def read_frame(path, layers=None):
     """Read an image file (EXR, PFM, HDR, PNG, ...) into {layer name: (height, width,
     channels) float32 array}, the layers grouped and named as the library reads them
-    (color, albedo, normal, variance, hist, ...); `layers` names the ones to read."""
+    (color, albedo, normal, variance, hist, ...); `layers` names the ones to read ("partial*":
+    every partial image there is). A layer named there and absent raises MissingLayerError."""
     core, names = _capi.core, None
     if layers is not None:
+        layers = [layers] if isinstance(layers, str) else list(layers)
+        for n in layers:
+            if not isinstance(n, str):
+                raise InvalidArgumentError(f"layer name {n!r} is not a str")
         names = (ctypes.c_char_p * len(layers))(*[n.encode() for n in layers])
     handle = _check(_capi.io.mcdReadFrame(str(path).encode(), names,
                                           len(layers) if layers is not None else 0))
@@ -299,7 +311,7 @@ def read_frame(path, layers=None):
         view = _view(array)
         _check(core.mcdCopyFrameLayer(frame.handle, name, ctypes.byref(view)))
         result[_text(name)] = array
-    lacking = [n for n in layers or [] if n not in result]
+    lacking = [n for n in layers or [] if n not in result and not n.endswith("*")]
     if lacking:
         raise MissingLayerError(f"{path} has no layer {', '.join(map(repr, lacking))}")
     return result

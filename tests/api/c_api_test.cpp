@@ -228,6 +228,13 @@ TEST_F(CApi, HandedStringsLiveAsLongAsTheirHandle) {
     MCDFrame frame = layers.NewFrame();
     const char *first = mcdGetFrameLayerName(frame, 0);
     const char *second = mcdGetFrameLayerName(frame, 1);
+    // More layers, named longer than any string kept inline, after the names were taken.
+    MCDView extra =
+        mcdInterleaved(layers.varianceBuffer.data(), MCD_FORMAT_FLOAT, layers.w, layers.h, 3);
+    for (int i = 0; i < 4; ++i)
+        ASSERT_TRUE(mcdSetFrameLayer(
+            frame, ("zz_a_layer_named_well_past_inline_strings_" + std::to_string(i)).c_str(),
+            &extra));
     // Calls that once replaced the strings, then allocations that would reuse freed memory.
     std::vector<std::vector<std::string>> churn;
     for (int i = 0; i < 64; ++i) {

@@ -127,7 +127,8 @@ def test_errors_are_exceptions_per_code(tmp_path):
         mcdenoise.denoise(color, method="rhf", knn=2**32 + 2)  # not cut to a C int
     with pytest.raises(ValueError):  # InvalidArgumentError is a ValueError too
         mcdenoise.denoise(color, method="rhf", no_such_parameter=1)
-    with pytest.raises(mcdenoise.MissingLayerError, match="--demodulate albedo needs a layer the frame lacks"):
+    with pytest.raises(mcdenoise.MissingLayerError,
+                       match="--demodulate albedo needs a layer the frame lacks"):
         mcdenoise.denoise(color, method="bayes", demodulate="albedo")
     with pytest.raises(mcdenoise.MissingLayerError, match="histogram"):
         mcdenoise.denoise(color, method="rhf")
@@ -153,6 +154,9 @@ def test_errors_are_exceptions_per_code(tmp_path):
     assert mcdenoise.denoise(color, method="bayes", device=0).shape == color.shape
     with pytest.raises(mcdenoise.MissingLayerError, match="has no layer 'nope'"):
         mcdenoise.read_frame(GLOSSY, layers=["color", "nope"])
+    # A wildcard asks for what there is; names come in any sequence.
+    assert "color" in mcdenoise.read_frame(GLOSSY, layers=["color", "partial*"])
+    assert "color" in mcdenoise.read_frame(GLOSSY, layers=np.array(["color"]))
     with pytest.raises(mcdenoise.IoError) as missing:
         mcdenoise.read_frame(tmp_path / "absent.exr")
     assert isinstance(missing.value, OSError) and "absent.exr" in str(missing.value)
