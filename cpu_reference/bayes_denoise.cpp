@@ -224,15 +224,14 @@ void CapLonePeaks(const Image &color, Image *out) {
 void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages,
                   const Image *variance, BayesRefResult *result) {
     if (params.keepMean) KeepMean(color, result, keepStages);
-    if (params.meanRadius > 0) {
-        // Kept: the zeros restored black (0 in and out) only, not a filtered value that
-        // lands on its input.
-        std::vector<bool> kept(color.data.size());
-        for (size_t i = 0; i < kept.size(); ++i)
-            kept[i] = color.data[i] == 0 && result->image.data[i] == 0;
-        RestoreLocalMeans(color, params.meanRadius, &result->image, variance, -1, false, &kept);
-        if (keepStages) result->stages.push_back({"local mean", result->image});
-    }
+    if (params.meanRadius <= 0) return;
+    // Kept: the zeros restored black (0 in and out) only, not a filtered value that lands
+    // on its input.
+    std::vector<bool> kept(color.data.size());
+    for (size_t i = 0; i < kept.size(); ++i)
+        kept[i] = color.data[i] == 0 && result->image.data[i] == 0;
+    RestoreLocalMeans(color, params.meanRadius, &result->image, variance, -1, false, &kept);
+    if (keepStages) result->stages.push_back({"local mean", result->image});
 }
 
 }  // namespace
