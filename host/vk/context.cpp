@@ -239,10 +239,12 @@ namespace {
 std::vector<char> ReadCacheFile(const std::string &path, size_t most = SIZE_MAX) {
     std::error_code ec;
     if (path.empty() || !std::filesystem::is_regular_file(path, ec)) return {};
+    const uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec) return {};
+    std::vector<char> data(size_t(std::min<uintmax_t>(size, most)));
     std::ifstream in(path, std::ios::binary);
-    std::vector<char> data;
-    for (std::istreambuf_iterator<char> it(in), end; it != end && data.size() < most; ++it)
-        data.push_back(*it);
+    in.read(data.data(), std::streamsize(data.size()));
+    data.resize(size_t(std::max<std::streamsize>(in.gcount(), 0)));
     return data;
 }
 
